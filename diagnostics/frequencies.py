@@ -1,0 +1,121 @@
+"""Bearing geometry and characteristic fault frequencies.
+
+Kinematics of a rolling element bearing with a stationary outer ring and a rotating inner
+ring, assuming pure rolling (no slip). With d the rolling element diameter, D the pitch
+diameter, alpha the contact angle and fr the shaft frequency:
+
+    FTF  = fr / 2 * (1 - d/D cos alpha)                 cage (fundamental train)
+    BPFO = n fr / 2 * (1 - d/D cos alpha)               ball pass, outer race
+    BPFI = n fr / 2 * (1 + d/D cos alpha)               ball pass, inner race
+    BSF  = D / (2 d) * fr * (1 - (d/D cos alpha)^2)     rolling element spin
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+__all__ = ["BearingGeometry", "FaultFrequencies", "bearing_frequencies"]
+
+
+@dataclass(frozen=True)
+class BearingGeometry:
+    """Geometry of a rolling element bearing, in metres.
+
+    Parameters
+    ----------
+    n_rollers : int
+        Number of rolling elements.
+    roller_diameter : float
+        Rolling element diameter d, m.
+    pitch_diameter : float
+        Pitch (cage) diameter D, m.
+    contact_angle_deg : float, optional
+        Contact angle alpha in degrees (0 for radial roller bearings).
+    """
+
+    n_rollers: int
+    roller_diameter: float
+    pitch_diameter: float
+    contact_angle_deg: float = 0.0
+
+    def __post_init__(self) -> None:
+        if int(self.n_rollers) != self.n_rollers or self.n_rollers < 1:
+            raise ValueError(f"n_rollers must be a positive integer, got {self.n_rollers!r}")
+        for name in ("roller_diameter", "pitch_diameter"):
+            value = getattr(self, name)
+            if not (isinstance(value, (int, float)) and math.isfinite(value) and value > 0):
+                raise ValueError(f"{name} must be a positive finite length in metres, got {value!r}")
+        if self.roller_diameter >= self.pitch_diameter:
+            raise ValueError(
+                f"roller_diameter ({self.roller_diameter} m) must be smaller than "
+                f"pitch_diameter ({self.pitch_diameter} m)"
+            )
+        if not (0.0 <= self.contact_angle_deg < 90.0):
+            raise ValueError(
+                f"contact_angle_deg must be in [0, 90), got {self.contact_angle_deg!r}"
+            )
+
+    @property
+    def diameter_ratio(self) -> float:
+        """d cos(alpha) / D, the ratio that sets every fault frequency."""
+        return (
+            self.roller_diameter
+            * math.cos(math.radians(self.contact_angle_deg))
+            / self.pitch_diameter
+        )
+
+
+@dataclass(frozen=True)
+class FaultFrequencies:
+    """Characteristic frequencies in Hz (stationary outer ring, turning inner ring)."""
+
+    shaft: float
+    ftf: float
+    bpfo: float
+    bpfi: float
+    bsf: float
+
+    def as_dict(self) -> dict[str, float]:
+        return {
+            "shaft_hz": self.shaft,
+            "ftf_hz": self.ftf,
+            "bpfo_hz": self.bpfo,
+            "bpfi_hz": self.bpfi,
+            "bsf_hz": self.bsf,
+        }
+
+
+def bearing_frequencies(geometry: BearingGeometry, shaft_hz: float) -> FaultFrequencies:
+    """Fault frequencies of a bearing turning at ``shaft_hz``.
+
+    Parameters
+    ----------
+    geometry : BearingGeometry
+        Bearing dimensions.
+    shaft_hz : float
+        Shaft (inner ring) rotation frequency in Hz; the outer ring is stationary.
+
+    Returns
+    -------
+    FaultFrequencies
+        FTF (cage), BPFO, BPFI and BSF (roller spin) in Hz.
+
+    Examples
+    --------
+    >>> g = BearingGeometry(9, 7.94e-3, 39.04e-3)
+    >>> round(bearing_frequencies(g, 1.0).bpfo, 3)
+    3.585
+    """
+    if not (isinstance(shaft_hz, (int, float)) and math.isfinite(shaft_hz) and shaft_hz > 0):
+        raise ValueError(f"shaft_hz must be a positive finite frequency, got {shaft_hz!r}")
+    ratio = geometry.diameter_ratio
+    n = geometry.n_rollers
+    ftf = 0.5 * shaft_hz * (1.0 - ratio)
+    return FaultFrequencies(
+        shaft=float(shaft_hz),
+        ftf=ftf,
+        bpfo=n * ftf,
+        bpfi=0.5 * n * shaft_hz * (1.0 + ratio),
+        bsf=0.5 * geometry.pitch_diameter / geometry.roller_diameter * shaft_hz * (1.0 - ratio**2),
+    )

@@ -1,0 +1,64 @@
+"""Command line: ``python -m taichi_bearing [run|mesh|analytic|sweep] CASE.yaml ...``.
+
+A bare case file (``python -m taichi_bearing cases/line_spall.yaml``) means ``run``.
+Each subcommand lives in ``taichi_bearing.commands.<name>`` and provides
+``add_arguments(parser)`` and ``main(args) -> int``. Bad input is reported as one line on
+stderr with exit status 2, never a traceback.
+"""
+
+from __future__ import annotations
+
+import argparse
+import importlib
+import sys
+
+from taichi_bearing.errors import InputError, SimulationError
+
+COMMANDS = {
+    "run": "preload, spin and record the bearing (the main job)",
+    "mesh": "build the finite element mesh, write mesh.vtu, pictures and statistics",
+    "analytic": "quasi-static load distribution with the spall, tables and figures",
+    "sweep": "run a load x speed matrix of cases",
+}
+
+
+def build_parser() -> argparse.ArgumentParser:
+    parser = argparse.ArgumentParser(
+        prog="python -m taichi_bearing",
+        description="2-D explicit dynamics of a roller bearing with a line spall.",
+        epilog="A case file alone, as in 'python -m taichi_bearing cases/line_spall.yaml', "
+        "runs the simulation.",
+    )
+    sub = parser.add_subparsers(dest="command", metavar="COMMAND")
+    for name, help_text in COMMANDS.items():
+        module = importlib.import_module(f"taichi_bearing.commands.{name}")
+        p = sub.add_parser(name, help=help_text, description=help_text)
+        module.add_arguments(p)
+    return parser
+
+
+def main(argv: list[str] | None = None) -> int:
+    argv = list(sys.argv[1:] if argv is None else argv)
+    if argv and argv[0] not in COMMANDS and not argv[0].startswith("-"):
+        argv.insert(0, "run")
+    parser = build_parser()
+    args = parser.parse_args(argv)
+    if args.command is None:
+        parser.print_help()
+        return 2
+    module = importlib.import_module(f"taichi_bearing.commands.{args.command}")
+    try:
+        return int(module.main(args) or 0)
+    except InputError as exc:
+        print(f"error: {exc}", file=sys.stderr)
+        return 2
+    except SimulationError as exc:
+        print(f"simulation stopped: {exc}", file=sys.stderr)
+        return 3
+    except KeyboardInterrupt:
+        print("interrupted: results written so far are kept", file=sys.stderr)
+        return 130
+
+
+if __name__ == "__main__":
+    sys.exit(main())
