@@ -1,0 +1,150 @@
+"""Input validation shared by every public function of ``diagnostics``.
+
+Each check raises ``ValueError`` with a one-line message naming the offending argument, so a
+user sees what to fix without reading a traceback.
+"""
+
+from __future__ import annotations
+
+import math
+from numbers import Real
+
+import numpy as np
+
+
+def check_fs(fs: float, name: str = "fs") -> float:
+    """Return ``fs`` as a float after checking it is a finite positive number.
+
+    Raises
+    ------
+    ValueError
+        If ``fs`` is not a real number, not finite or not positive.
+    """
+    if isinstance(fs, bool) or not isinstance(fs, Real | np.floating | np.integer):
+        raise ValueError(f"{name} must be a number in Hz, got {fs!r}")
+    value = float(fs)
+    if not math.isfinite(value) or value <= 0.0:
+        raise ValueError(f"{name} must be a finite positive sampling rate in Hz, got {fs!r}")
+    return value
+
+
+def check_signal(x, fs: float, name: str = "x", min_length: int = 2) -> np.ndarray:
+    """Return ``x`` as a 1-D float64 array after validating it and the sampling rate.
+
+    Parameters
+    ----------
+    x : array_like
+        The signal. A column or row vector (shape (n, 1) or (1, n)) is flattened.
+    fs : float
+        Sampling rate in Hz (checked to be finite and positive).
+    name : str
+        Argument name used in error messages.
+    min_length : int
+        Fewest samples the caller needs.
+
+    Raises
+    ------
+    ValueError
+        If ``x`` is empty, not numeric, not 1-D, shorter than ``min_length``, holds NaN or
+        inf, or ``fs`` is not a positive finite number.
+    """
+    check_fs(fs)
+    try:
+        arr = np.asarray(x)
+    except Exception as exc:  # ragged lists and the like
+        raise ValueError(f"{name} must be a 1-D numeric array ({exc})") from None
+    if arr.dtype.kind == "c":
+        raise ValueError(f"{name} must be real-valued, got a complex array")
+    if arr.dtype.kind not in "biuf":
+        raise ValueError(f"{name} must be a 1-D numeric array, got dtype {arr.dtype}")
+    if arr.ndim == 2 and 1 in arr.shape:
+        arr = arr.reshape(-1)
+    if arr.ndim != 1:
+        raise ValueError(f"{name} must be 1-D, got an array of shape {arr.shape}")
+    if arr.size == 0:
+        raise ValueError(f"{name} is empty")
+    if arr.size < min_length:
+        raise ValueError(
+            f"{name} is too short for this request: {arr.size} samples, need at least {min_length}"
+        )
+    arr = np.ascontiguousarray(arr, dtype=np.float64)
+    finite = np.isfinite(arr)
+    if not finite.all():
+        bad = int(np.argmin(finite))
+        raise ValueError(f"{name} holds NaN or inf (first at sample {bad})")
+    return arr
+
+
+def check_frequency(f: float, fs: float, name: str = "f") -> float:
+    """Return ``f`` as a float after checking 0 < f < fs/2.
+
+    Raises
+    ------
+    ValueError
+        If ``f`` is not a finite number strictly between 0 and the Nyquist frequency.
+    """
+    fs = check_fs(fs)
+    if isinstance(f, bool) or not isinstance(f, Real | np.floating | np.integer):
+        raise ValueError(f"{name} must be a frequency in Hz, got {f!r}")
+    value = float(f)
+    nyquist = fs / 2.0
+    if not math.isfinite(value) or value <= 0.0 or value >= nyquist:
+        raise ValueError(f"{name} = {f!r} Hz is outside the open range 0..{nyquist:g} Hz (fs/2)")
+    return value
+
+
+def check_band(f_lo: float, f_hi: float, fs: float, name: str = "band") -> tuple[float, float]:
+    """Return ``(f_lo, f_hi)`` as floats after checking 0 < f_lo < f_hi <= fs/2.
+
+    Raises
+    ------
+    ValueError
+        If an edge is not a finite number, the band is empty or reversed, or it reaches
+        outside 0..fs/2.
+    """
+    fs = check_fs(fs)
+    nyquist = fs / 2.0
+    edges = []
+    for label, value in (("lower edge", f_lo), ("upper edge", f_hi)):
+        if isinstance(value, bool) or not isinstance(value, Real | np.floating | np.integer):
+            raise ValueError(f"{name} {label} must be a frequency in Hz, got {value!r}")
+        if not math.isfinite(float(value)):
+            raise ValueError(f"{name} {label} must be finite, got {value!r}")
+        edges.append(float(value))
+    lo, hi = edges
+    if not 0.0 < lo < hi <= nyquist:
+        raise ValueError(
+            f"{name} ({lo:g}, {hi:g}) Hz must satisfy 0 < low < high <= fs/2 = {nyquist:g} Hz"
+        )
+    return lo, hi
+
+
+def check_positive_int(value, name: str, minimum: int = 1) -> int:
+    """Return ``value`` as an int after checking it is an integer >= ``minimum``.
+
+    Raises
+    ------
+    ValueError
+        If ``value`` is not an integer or is below ``minimum``.
+    """
+    if isinstance(value, bool) or not isinstance(value, int | np.integer):
+        raise ValueError(f"{name} must be an integer, got {value!r}")
+    if value < minimum:
+        raise ValueError(f"{name} must be at least {minimum}, got {value}")
+    return int(value)
+
+
+def check_positive(value, name: str) -> float:
+    """Return ``value`` as a float after checking it is finite and > 0.
+
+    Raises
+    ------
+    ValueError
+        If ``value`` is not a finite positive number.
+    """
+    if isinstance(value, bool) or not isinstance(value, Real | np.floating | np.integer):
+        raise ValueError(f"{name} must be a number, got {value!r}")
+    out = float(value)
+    if not math.isfinite(out) or out <= 0.0:
+        raise ValueError(f"{name} must be finite and positive, got {value!r}")
+    return out
