@@ -13,19 +13,14 @@ import numpy as np
 
 
 def check_fs(fs: float, name: str = "fs") -> float:
-    """Return ``fs`` as a float after checking it is a finite positive number.
+    """Return ``fs`` as a float after checking it is a finite positive number (Hz).
 
     Raises
     ------
     ValueError
         If ``fs`` is not a real number, not finite or not positive.
     """
-    if isinstance(fs, bool) or not isinstance(fs, Real | np.floating | np.integer):
-        raise ValueError(f"{name} must be a number in Hz, got {fs!r}")
-    value = float(fs)
-    if not math.isfinite(value) or value <= 0.0:
-        raise ValueError(f"{name} must be a finite positive sampling rate in Hz, got {fs!r}")
-    return value
+    return check_positive(fs, name, unit=" in Hz")
 
 
 def check_signal(x, fs: float, name: str = "x", min_length: int = 2) -> np.ndarray:
@@ -134,7 +129,7 @@ def check_positive_int(value, name: str, minimum: int = 1) -> int:
     return int(value)
 
 
-def check_positive(value, name: str) -> float:
+def check_positive(value, name: str, unit: str = "") -> float:
     """Return ``value`` as a float after checking it is finite and > 0.
 
     Raises
@@ -143,8 +138,8 @@ def check_positive(value, name: str) -> float:
         If ``value`` is not a finite positive number.
     """
     if isinstance(value, bool) or not isinstance(value, Real | np.floating | np.integer):
-        raise ValueError(f"{name} must be a number, got {value!r}")
+        raise ValueError(f"{name} must be a number{unit}, got {value!r}")
     out = float(value)
     if not math.isfinite(out) or out <= 0.0:
-        raise ValueError(f"{name} must be finite and positive, got {value!r}")
+        raise ValueError(f"{name} must be finite and positive{unit}, got {value!r}")
     return out
