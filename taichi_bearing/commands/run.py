@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import argparse
 
+from taichi_bearing.case import load_case_for_cli
 from taichi_bearing.commands.common import add_case_arguments
 
 PLAN = """\
@@ -25,5 +26,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 
 def main(args: argparse.Namespace) -> int:
-    print(PLAN.format(case=args.case))
+    # Validate first, so a bad case file fails with one line and exit 2 (CaseError).
+    case = load_case_for_cli(args.case, args.overrides)
+    print(PLAN.format(case=f"{case.source}, case '{case.name}'"))
     return 1
