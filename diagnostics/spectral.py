@@ -1,0 +1,191 @@
+"""Spectral estimates: short-time Fourier transform, Welch PSD and one-third-octave bands."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from scipy import signal
+
+from diagnostics._checks import check_fs, check_positive, check_positive_int, check_signal
+
+# IEC 61260-1 base-ten band ratio: centres 1000 * 10**(k/10), edges at centre * 10**(+-1/20).
+_OCTAVE_RATIO_EXPONENT = 0.1
+_EDGE_EXPONENT = 0.05
+
+
+def stft(x, fs: float, nperseg: int = 256, noverlap: int | None = None, window: str = "hann"):
+    """Short-time Fourier transform, frames taken from the signal only (no edge padding).
+
+    Parameters
+    ----------
+    x : array_like
+        1-D signal.
+    fs : float
+        Sampling rate in Hz.
+    nperseg : int
+        Frame length in samples.
+    noverlap : int, optional
+        Overlap between frames in samples; ``nperseg // 2`` when omitted.
+    window : str
+        Window name understood by ``scipy.signal.get_window``.
+
+    Returns
+    -------
+    f : numpy.ndarray
+        Frequencies in Hz (``nperseg // 2 + 1`` values).
+    t : numpy.ndarray
+        Frame centres in seconds.
+    Z : numpy.ndarray
+        Complex STFT, shape ``(len(f), len(t))``, scaled as scipy does (a sinusoid of
+        amplitude A reads A/2 at its bin).
+
+    Raises
+    ------
+    ValueError
+        On an invalid signal or ``fs``, a frame longer than the signal, or an overlap not in
+        0..nperseg-1.
+    """
+    nperseg = check_positive_int(nperseg, "nperseg", minimum=2)
+    x = check_signal(x, fs, min_length=nperseg)
+    if noverlap is None:
+        noverlap = nperseg // 2
+    noverlap = check_positive_int(noverlap, "noverlap", minimum=0)
+    if noverlap >= nperseg:
+        raise ValueError(f"noverlap ({noverlap}) must be smaller than nperseg ({nperseg})")
+    try:
+        signal.get_window(window, nperseg)
+    except (ValueError, TypeError) as exc:
+        raise ValueError(f"window {window!r} is not a valid window: {exc}") from None
+    return signal.stft(
+        x,
+        fs=fs,
+        window=window,
+        nperseg=nperseg,
+        noverlap=noverlap,
+        boundary=None,
+        padded=False,
+    )
+
+
+def psd(x, fs: float, nperseg: int = 4096):
+    """Power spectral density by Welch's method (Hann window, 50 % overlap).
+
+    Parameters
+    ----------
+    x : array_like
+        1-D signal.
+    fs : float
+        Sampling rate in Hz.
+    nperseg : int
+        Segment length in samples; must not exceed the signal length.
+
+    Returns
+    -------
+    f : numpy.ndarray
+        Frequencies in Hz.
+    Pxx : numpy.ndarray
+        One-sided PSD in units**2/Hz; its integral over f is the signal's mean square.
+
+    Raises
+    ------
+    ValueError
+        On an invalid signal or ``fs``, or a segment longer than the signal.
+    """
+    nperseg = check_positive_int(nperseg, "nperseg", minimum=2)
+    x = check_signal(x, fs, min_length=nperseg)
+    return signal.welch(x, fs=fs, window="hann", nperseg=nperseg, scaling="density")
+
+
+def third_octave_centres(f_min: float, f_max: float) -> np.ndarray:
+    """Exact IEC 61260-1 base-ten one-third-octave centres whose band overlaps f_min..f_max.
+
+    Parameters
+    ----------
+    f_min, f_max : float
+        Frequency range in Hz, 0 < f_min < f_max.
+
+    Returns
+    -------
+    numpy.ndarray
+        Centres ``1000 * 10**(k/10)`` in increasing order.
+    """
+    f_min = check_positive(f_min, "f_min")
+    f_max = check_positive(f_max, "f_max")
+    if f_min >= f_max:
+        raise ValueError(f"f_min ({f_min:g} Hz) must be below f_max ({f_max:g} Hz)")
+    # Band k spans 1000 * 10**((k -+ 0.5)/10); keep every band that overlaps the range.
+    k_lo = math.floor(10.0 * math.log10(f_min / 1000.0) + 0.5)
+    k_hi = math.ceil(10.0 * math.log10(f_max / 1000.0) - 0.5)
+    k = np.arange(k_lo, k_hi + 1)
+    return 1000.0 * 10.0 ** (_OCTAVE_RATIO_EXPONENT * k)
+
+
+def third_octave(x, fs: float, f_min: float = 20.0, f_max: float | None = None, ref: float = 1.0):
+    """One-third-octave band levels (IEC 61260-1 base-ten bands) from the signal's spectrum.
+
+    The power of each band is the sum of the periodogram bins inside its edges
+    ``fc * 10**(-0.05) <= f < fc * 10**(0.05)``. Adjacent bands share their edges, so the band
+    powers add up to the signal's power over the range they cover (Parseval).
+
+    Parameters
+    ----------
+    x : array_like
+        1-D signal.
+    fs : float
+        Sampling rate in Hz.
+    f_min : float
+        Lowest frequency of interest in Hz; the first band is the one containing it.
+    f_max : float, optional
+        Highest frequency of interest in Hz (default fs/2). Bands reaching above fs/2 are
+        dropped, since the spectrum ends there.
+    ref : float
+        Reference value: levels are ``10 log10(power / ref**2)`` dB.
+
+    Returns
+    -------
+    fc : numpy.ndarray
+        Exact band centres in Hz.
+    level_db : numpy.ndarray
+        Band levels in dB re ``ref``; ``-inf`` for a band holding no power or no bin.
+
+    Raises
+    ------
+    ValueError
+        On an invalid signal or ``fs``, or a range that holds no complete band.
+    """
+    fs = check_fs(fs)
+    x = check_signal(x, fs, min_length=2)
+    ref = check_positive(ref, "ref")
+    nyquist = fs / 2.0
+    f_max = nyquist if f_max is None else check_positive(f_max, "f_max")
+    if f_max > nyquist:
+        raise ValueError(f"f_max = {f_max:g} Hz is above fs/2 = {nyquist:g} Hz")
+    fc = third_octave_centres(f_min, f_max)
+    upper = fc * 10.0**_EDGE_EXPONENT
+    keep = upper <= nyquist * (1.0 + 1e-12)
+    fc = fc[keep]
+    if fc.size == 0:
+        raise ValueError(
+            f"no complete one-third-octave band between f_min = {f_min:g} Hz and fs/2 = "
+            f"{nyquist:g} Hz"
+        )
+    band_power = _band_powers(x, fs, fc)
+    with np.errstate(divide="ignore"):
+        level_db = 10.0 * np.log10(band_power / ref**2)
+    return fc, level_db
+
+
+def _band_powers(x: np.ndarray, fs: float, fc: np.ndarray) -> np.ndarray:
+    """Mean-square power of ``x`` inside each band ``fc * 10**(+-0.05)``."""
+    n = x.size
+    spectrum = np.fft.rfft(x)
+    # One-sided power per bin, normalised so that the bins sum to mean(x**2).
+    power = np.abs(spectrum) ** 2 / n**2
+    power[1 : (n + 1) // 2] *= 2.0
+    f = np.fft.rfftfreq(n, d=1.0 / fs)
+    edges = np.append(fc * 10.0**-_EDGE_EXPONENT, fc[-1] * 10.0**_EDGE_EXPONENT)
+    # Half-open bins [lo, hi): each bin lands in exactly one band.
+    index = np.searchsorted(edges, f, side="right") - 1
+    inside = (index >= 0) & (index < fc.size)
+    return np.bincount(index[inside], weights=power[inside], minlength=fc.size)
