@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import json
+import re
 from pathlib import Path
 
 import numpy as np
@@ -16,6 +18,11 @@ from taichi_bearing.output.checkpoint import (
     list_checkpoints,
     load_checkpoint,
     save_checkpoint,
+)
+from taichi_bearing.output.summary import (
+    missing_summary_keys,
+    required_summary_keys,
+    write_summary,
 )
 
 
@@ -134,3 +141,34 @@ def test_bad_input_is_refused(tmp_path):
     np.savez(tmp_path / "foreign.npz", x=np.zeros(3))
     with pytest.raises(InputError, match="not a taichi-bearing checkpoint"):
         load_checkpoint(Path(tmp_path / "foreign.npz"))
+
+
+# summary.json (run metadata written beside the checkpoints) --------------------------
+
+
+def test_summary_keys_match_design_section_7():
+    design = (Path(__file__).resolve().parents[2] / "shared" / "design.md").read_text()
+    if "## 7." not in design:
+        pytest.skip("design.md not available")
+    section = design.split("## 7.")[1].split("## 8.")[0]
+    block = section.split("`summary.json`, with at least these keys")[1].split("- Column names")[0]
+    assert tuple(re.findall(r"`(\w+)`", block)) == required_summary_keys()
+
+
+def test_write_summary_flags_missing_keys(tmp_path):
+    full = {k: 1.0 for k in required_summary_keys()}
+    full["static_roller_forces_N"] = np.array([1.5, np.nan])
+    path = write_summary(tmp_path, full, strict=True)
+    assert path == tmp_path / "summary.json"
+    data = json.loads(path.read_text())
+    assert "missing_keys" not in data and data["static_roller_forces_N"] == [1.5, None]
+    partial = {"n_nodes": np.int64(12), "dt_s": 1e-8}
+    with pytest.warns(UserWarning, match="n_elements"):
+        write_summary(tmp_path / "summary.json", partial)
+    data = json.loads(path.read_text())
+    assert data["n_nodes"] == 12
+    assert data["missing_keys"] == missing_summary_keys(partial)
+    assert len(data["missing_keys"]) == len(required_summary_keys()) - 2
+    with pytest.raises(ValueError, match="lacks required keys"):
+        write_summary(tmp_path / "other.json", partial, strict=True)
+    assert not (tmp_path / "other.json").exists()

@@ -1,0 +1,82 @@
+"""``summary.json`` of a run: the numbers design.md section 7 requires, in SI units."""
+
+from __future__ import annotations
+
+import os
+import warnings
+from collections.abc import Mapping
+from pathlib import Path
+
+from diagnostics.files import write_json
+
+__all__ = ["missing_summary_keys", "required_summary_keys", "write_summary"]
+
+_REQUIRED = (
+    "n_elements",
+    "n_nodes",
+    "dt_s",
+    "n_steps",
+    "wall_time_s",
+    "element_steps_per_s",
+    "energy_balance_error",
+    "static_roller_forces_N",
+    "analytical_roller_forces_N",
+    "cage_speed_rel_error",
+    "bpfo_hz",
+    "restress_times_s",
+    "entry_times_s",
+    "noise_frequencies_predicted_hz",
+    "noise_frequencies_measured_hz",
+    "defect_size_estimate_m",
+    "defect_size_true_m",
+)
+
+
+def required_summary_keys() -> tuple[str, ...]:
+    """The keys every ``summary.json`` must have (design.md section 7)."""
+    return _REQUIRED
+
+
+def missing_summary_keys(summary: Mapping) -> list[str]:
+    """The required keys absent from ``summary``, in the order of :func:`required_summary_keys`."""
+    return [k for k in _REQUIRED if k not in summary]
+
+
+def write_summary(path: str | os.PathLike, summary: Mapping, strict: bool = False) -> Path:
+    """Write ``summary.json`` atomically; flag required keys that are missing.
+
+    Parameters
+    ----------
+    path : str or path-like
+        The file, or a folder (then ``summary.json`` in it).
+    summary : mapping
+        Values may be numpy scalars/arrays; non-finite floats are written as ``null``.
+    strict : bool
+        Raise instead of warning when required keys are missing.
+
+    Returns
+    -------
+    pathlib.Path
+        The file written. When keys are missing (and not ``strict``), a ``UserWarning``
+        names them and the file lists them under ``"missing_keys"``, so a partial run
+        (stopped early, Ctrl-C) still leaves a summary that says what it lacks.
+
+    Raises
+    ------
+    ValueError
+        With ``strict=True``, if required keys are missing.
+    """
+    path = Path(path)
+    if path.suffix != ".json":
+        path = path / "summary.json"
+    data = dict(summary)
+    missing = missing_summary_keys(data)
+    if missing:
+        message = f"{path}: summary lacks required keys {missing}"
+        if strict:
+            raise ValueError(message)
+        warnings.warn(message, UserWarning, stacklevel=2)
+        data["missing_keys"] = missing
+    else:
+        data.pop("missing_keys", None)
+    return write_json(path, data)
