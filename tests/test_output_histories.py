@@ -274,3 +274,48 @@ def test_crash_between_merge_and_cleanup_reads_no_duplicates(tmp_path, monkeypat
     assert (tmp_path / "histories.parquet").is_file()
     assert len(list((tmp_path / "histories.parts").glob("part-*"))) == 3
     np.testing.assert_array_equal(read_histories(tmp_path).to_numpy(), data)
+
+
+def _oscillators(x: np.ndarray, v: np.ndarray, dt: float) -> tuple[np.ndarray, np.ndarray]:
+    """One leapfrog step of unit oscillators with frequencies 1..n rad/s (a stand-in engine)."""
+    w2 = np.arange(1, x.size + 1, dtype=np.float64) ** 2
+    v = v - dt * w2 * x
+    return x + dt * v, v
+
+
+def _engine_run(out: Path, n_steps: int, stop_after: int | None = None) -> None:
+    """Record every 7 steps, checkpoint every 40 (flushing histories first), resume if a
+    checkpoint exists; ``stop_after`` abandons the run without closing (a crash)."""
+    from taichi_bearing.output.checkpoint import latest_checkpoint, load_checkpoint, save_checkpoint
+
+    dt, cols = 1e-3, ["time_s", "x0", "x1", "x2"]
+    x, v, step, resume_time = np.array([1.0, 0.5, -0.2]), np.zeros(3), 0, None
+    last = latest_checkpoint(out / "checkpoints")
+    if last is not None:
+        step, resume_time, state, _ = load_checkpoint(last, expected_fingerprint="osc")
+        x, v = state["x"], state["v"]
+    w = HistoryWriter(out, cols, chunk_rows=5, resume_time=resume_time)
+    while step < n_steps:
+        x, v = _oscillators(x, v, dt)
+        step += 1
+        if step % 7 == 0:
+            w.append(np.concatenate([[step * dt], x]))
+        if step % 40 == 0:
+            w.flush()
+            save_checkpoint(
+                out / "checkpoints", step, step * dt, {"x": x, "v": v}, {"fingerprint": "osc"}
+            )
+        if step == stop_after:
+            return
+    w.close()
+
+
+def test_crash_and_resume_reproduce_an_uninterrupted_run(tmp_path):
+    _engine_run(tmp_path / "a", 300)
+    _engine_run(
+        tmp_path / "b", 300, stop_after=158
+    )  # crash: checkpoint at 120, rows to 154 on disk
+    _engine_run(tmp_path / "b", 300)
+    a = read_histories(tmp_path / "a")
+    assert len(a) == 300 // 7
+    pd.testing.assert_frame_equal(read_histories(tmp_path / "b"), a)
