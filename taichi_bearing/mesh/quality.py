@@ -1,0 +1,156 @@
+"""Element quality and the explicit time step a mesh allows.
+
+Definitions (the solver relies on the same ones):
+
+- element size: the shortest edge; aspect ratio: longest / shortest edge;
+- Jacobian ratio: smallest / largest determinant of the bilinear map over the four corners
+  (1 for a parallelogram, <= 0 for an inverted or degenerate quad);
+- characteristic length ``L = A / d_max`` (area over the longer diagonal, as LS-DYNA does for
+  2-D solids); critical step ``dt = L / c`` with the plane-strain dilatational wave speed
+  ``c = sqrt((lambda + 2 mu) / rho)``.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from taichi_bearing.mesh.grid import signed_areas
+from taichi_bearing.mesh.types import Mesh
+
+GAUSS_2X2 = np.array([[-1, -1], [1, -1], [1, 1], [-1, 1]], dtype=float) / np.sqrt(3.0)
+CORNERS = np.array([[-1, -1], [1, -1], [1, 1], [-1, 1]], dtype=float)
+
+
+def jacobian_determinants(
+    nodes: np.ndarray, elements: np.ndarray, points: np.ndarray = GAUSS_2X2
+) -> np.ndarray:
+    """Determinant of the bilinear map of every quad at the given (xi, eta) points.
+
+    Returns
+    -------
+    ndarray, shape (n_elements, n_points)
+    """
+    x = nodes[elements]  # (ne, 4, 2)
+    xi = points[:, 0][:, None]
+    eta = points[:, 1][:, None]
+    sx = np.array([-1.0, 1.0, 1.0, -1.0])
+    sy = np.array([-1.0, -1.0, 1.0, 1.0])
+    dn_dxi = 0.25 * sx[None, :] * (1 + sy[None, :] * eta)  # (np, 4)
+    dn_deta = 0.25 * sy[None, :] * (1 + sx[None, :] * xi)
+    j11 = np.einsum("pa,ea->ep", dn_dxi, x[..., 0])
+    j12 = np.einsum("pa,ea->ep", dn_dxi, x[..., 1])
+    j21 = np.einsum("pa,ea->ep", dn_deta, x[..., 0])
+    j22 = np.einsum("pa,ea->ep", dn_deta, x[..., 1])
+    return j11 * j22 - j12 * j21
+
+
+def wave_speed(youngs_modulus: float, poissons_ratio: float, density: float) -> float:
+    """Plane-strain dilatational wave speed ``sqrt((lambda + 2 mu) / rho)``, m/s."""
+    e, nu = youngs_modulus, poissons_ratio
+    if e <= 0 or density <= 0 or not -1 < nu < 0.5:
+        raise ValueError(f"need E > 0, rho > 0 and -1 < nu < 0.5, got {e}, {density}, {nu}")
+    return float(np.sqrt(e * (1 - nu) / ((1 + nu) * (1 - 2 * nu)) / density))
+
+
+def element_geometry(nodes: np.ndarray, elements: np.ndarray) -> dict[str, np.ndarray]:
+    """Per-element area, shortest/longest edge, characteristic length and Jacobian ratio."""
+    x = nodes[elements]
+    edges = np.linalg.norm(np.roll(x, -1, axis=1) - x, axis=2)
+    diag = np.maximum(
+        np.linalg.norm(x[:, 2] - x[:, 0], axis=1), np.linalg.norm(x[:, 3] - x[:, 1], axis=1)
+    )
+    area = signed_areas(nodes, elements)
+    det = jacobian_determinants(nodes, elements, CORNERS)
+    return {
+        "area": area,
+        "min_edge": edges.min(axis=1),
+        "max_edge": edges.max(axis=1),
+        "char_length": area / diag,
+        "jacobian_ratio": det.min(axis=1) / det.max(axis=1),
+    }
+
+
+@dataclass
+class MeshStatistics:
+    """Counts, sizes and quality of a mesh; see the module notes for the definitions."""
+
+    n_nodes: int
+    n_elements: int
+    part_elements: dict[str, int]
+    part_nodes: dict[str, int]
+    min_size: float
+    max_size: float
+    worst_aspect: float
+    worst_jacobian_ratio: float
+    min_char_length: float
+    wave_speed: float
+    critical_dt: float
+    worst_element: int
+    polygon_edges: dict[str, int] = field(default_factory=dict)
+
+    def summary(self) -> str:
+        """A one-screen text summary."""
+        lines = [
+            f"mesh: {self.n_elements} elements, {self.n_nodes} nodes",
+            f"{'part':<14}{'elements':>10}{'nodes':>10}",
+        ]
+        for name, n in self.part_elements.items():
+            lines.append(f"{name:<14}{n:>10}{self.part_nodes[name]:>10}")
+        lines += [
+            f"element size   {1e3 * self.min_size:.4g} .. {1e3 * self.max_size:.4g} mm "
+            "(shortest edge .. longest edge)",
+            f"worst aspect ratio {self.worst_aspect:.3g}, "
+            f"worst Jacobian ratio {self.worst_jacobian_ratio:.3g}",
+            f"smallest characteristic length {1e3 * self.min_char_length:.4g} mm "
+            f"(element {self.worst_element}); wave speed {self.wave_speed:.5g} m/s",
+            f"critical time step {1e9 * self.critical_dt:.4g} ns (solver uses 0.9 x)",
+        ]
+        if self.polygon_edges:
+            edges = ", ".join(f"{k} {v}" for k, v in self.polygon_edges.items())
+            lines.append(f"polygon edges: {edges}")
+        return "\n".join(lines)
+
+
+def mesh_statistics(
+    mesh: Mesh,
+    youngs_modulus: float = 210e9,
+    poissons_ratio: float = 0.3,
+    density: float = 7850.0,
+    wave_speed_m_s: float | None = None,
+) -> MeshStatistics:
+    """Counts per part, element sizes, worst quality and the critical time step.
+
+    Parameters
+    ----------
+    mesh : Mesh
+    youngs_modulus, poissons_ratio, density : float
+        Material, SI; used when ``wave_speed_m_s`` is not given.
+    wave_speed_m_s : float, optional
+        Dilatational wave speed to use directly.
+    """
+    c = wave_speed_m_s or wave_speed(youngs_modulus, poissons_ratio, density)
+    g = element_geometry(mesh.nodes, mesh.elements)
+    worst = int(np.argmin(g["char_length"]))
+    part_elements, part_nodes = {}, {}
+    for p, name in enumerate(mesh.part_names):
+        sel = mesh.elements[mesh.element_part == p]
+        part_elements[name] = int(len(sel))
+        part_nodes[name] = int(len(np.unique(sel)))
+    polygon = {k: int(v) for k, v in mesh.info.get("polygon_edges", {}).items()}
+    return MeshStatistics(
+        n_nodes=mesh.n_nodes,
+        n_elements=mesh.n_elements,
+        part_elements=part_elements,
+        part_nodes=part_nodes,
+        min_size=float(g["min_edge"].min()),
+        max_size=float(g["max_edge"].max()),
+        worst_aspect=float((g["max_edge"] / g["min_edge"]).max()),
+        worst_jacobian_ratio=float(g["jacobian_ratio"].min()),
+        min_char_length=float(g["char_length"][worst]),
+        wave_speed=float(c),
+        critical_dt=float(g["char_length"][worst] / c),
+        worst_element=worst,
+        polygon_edges=polygon,
+    )
