@@ -148,7 +148,9 @@ def _start_child(tmp_path: Path, data: np.ndarray) -> subprocess.Popen:
         [sys.executable, str(script)], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True
     )
     line = proc.stdout.readline()
-    assert line.strip() == "ready", proc.stderr.read()
+    if line.strip() != "ready":
+        proc.kill()
+        pytest.fail(f"child did not start: {proc.communicate()[1]}")
     return proc
 
 
@@ -156,7 +158,7 @@ def test_sigkill_mid_run_keeps_every_flushed_row(tmp_path):
     data = _rows(35, 4, seed=4)
     proc = _start_child(tmp_path, data)
     proc.send_signal(signal.SIGKILL)
-    proc.wait(timeout=30)
+    proc.communicate(timeout=30)
     assert proc.returncode == -signal.SIGKILL
     # 3 chunks of 10 were flushed; the 5 buffered rows died with the process.
     np.testing.assert_array_equal(read_histories(tmp_path / "run").to_numpy(), data[:30])
@@ -166,8 +168,8 @@ def test_ctrl_c_in_child_leaves_valid_merged_file(tmp_path):
     data = _rows(35, 4, seed=5)
     proc = _start_child(tmp_path, data)
     proc.send_signal(signal.SIGINT)
-    proc.wait(timeout=60)
-    assert proc.returncode != 0 and "KeyboardInterrupt" in proc.stderr.read()
+    _, err = proc.communicate(timeout=60)
+    assert proc.returncode != 0 and "KeyboardInterrupt" in err
     merged = tmp_path / "run" / "histories.parquet"
     assert merged.is_file() and not (tmp_path / "run" / "histories.parts").exists()
     np.testing.assert_array_equal(pd.read_parquet(merged).to_numpy(), data)

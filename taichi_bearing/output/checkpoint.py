@@ -205,7 +205,8 @@ def load_checkpoint(
     """
     path = Path(path)
     try:
-        with np.load(path, allow_pickle=False) as z:
+        # Open the file here: np.load leaks its handle when the zip is corrupt.
+        with open(path, "rb") as f, np.load(f, allow_pickle=False) as z:
             data = {k: z[k] for k in z.files}
     except (OSError, ValueError, KeyError, EOFError, zipfile.BadZipFile) as exc:
         raise InputError(f"{path}: not a readable checkpoint ({exc})") from None
