@@ -65,6 +65,7 @@ __all__ = [
     "contact_model",
     "defect_sweep",
     "load_distribution_factor",
+    "solve_case",
     "solve_load_distribution",
     "spall_from_case",
     "static_contact_table",
@@ -375,6 +376,20 @@ def load_distribution_factor(dist: LoadDistribution, clearance: float) -> np.nda
     return 0.5 * (1.0 - clearance / (2.0 * dist.ring_displacement))
 
 
+def solve_case(
+    case: Case, cage_angles, mode: str = "patch", healthy: bool = False
+) -> LoadDistribution:
+    """Load distribution of a case at the given angles of roller 0 (rad).
+
+    ``healthy=True`` ignores the case's defect.
+    """
+    spall = None if healthy else spall_from_case(case)
+    cm = contact_model(case.bearing, case.material)
+    return solve_load_distribution(
+        cm, case.bearing.n_rollers, case.operating.load, cage_angles, spall, mode
+    )
+
+
 def defect_sweep(
     case: Case, n_angles: int = 2001, mode: str = "patch", span: float | None = None
 ) -> LoadDistribution:
@@ -387,10 +402,7 @@ def defect_sweep(
     centre = spall.centre if spall is not None else case.defect.angle
     pitch = 2.0 * np.pi / case.bearing.n_rollers if span is None else span
     angles = centre + np.linspace(-0.5 * pitch, 0.5 * pitch, n_angles)
-    cm = contact_model(case.bearing, case.material)
-    return solve_load_distribution(
-        cm, case.bearing.n_rollers, case.operating.load, angles, spall, mode
-    )
+    return solve_case(case, angles, mode)
 
 
 STATIC_COLUMNS = (
@@ -412,8 +424,7 @@ def static_contact_table(case: Case, cage_angle: float = 0.0) -> dict[str, np.nd
     Roller 0 sits at ``cage_angle`` (default 12 o'clock, where the most loaded roller is).
     Returns a mapping column -> array in the order of :data:`STATIC_COLUMNS`.
     """
-    cm = contact_model(case.bearing, case.material)
-    dist = solve_load_distribution(cm, case.bearing.n_rollers, case.operating.load, cage_angle)
+    dist = solve_case(case, cage_angle, healthy=True)
     # cos(90 deg) is not exactly zero in floating point: ignore round-off forces
     loaded = np.flatnonzero(dist.outer_force[0] > 1e-9 * dist.load)
     columns = (
