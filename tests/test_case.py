@@ -1,0 +1,295 @@
+"""Case files: SI conversion, round trip, every class of error, overrides, CLI exit 2."""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+import subprocess
+import sys
+import warnings
+from pathlib import Path
+
+import pytest
+import yaml
+
+from taichi_bearing.case import (
+    Case,
+    CaseError,
+    ExtendedDefectWarning,
+    case_to_dict,
+    load_case,
+    parse_case,
+    schema_attributes,
+)
+
+ROOT = Path(__file__).resolve().parents[1]
+
+
+@pytest.fixture()
+def raw(default_case_path) -> dict:
+    return yaml.safe_load(default_case_path.read_text())
+
+
+def write(tmp_path: Path, data: dict, name: str = "case.yaml") -> Path:
+    path = tmp_path / name
+    path.write_text(yaml.safe_dump(data, sort_keys=False))
+    return path
+
+
+def error_of(raw: dict) -> CaseError:
+    with pytest.raises(CaseError) as info:
+        parse_case(raw, source="x.yaml")
+    return info.value
+
+
+def test_default_case_in_si(default_case_path):
+    case = load_case(default_case_path)
+    assert isinstance(case, Case)
+    assert case.name == "line_spall"
+    assert case.source == default_case_path
+    b = case.bearing
+    assert b.n_rollers == 20
+    assert b.pitch_diameter == pytest.approx(0.2)
+    assert b.roller_diameter == pytest.approx(0.024)
+    # design.md: raceways 224 mm and 176 mm at zero clearance
+    assert 2 * b.outer_raceway_radius == pytest.approx(0.224)
+    assert 2 * b.inner_raceway_radius == pytest.approx(0.176)
+    assert b.outer_ring_outer_radius == pytest.approx(0.126)
+    assert b.inner_ring_bore_radius == pytest.approx(0.076)
+    assert b.roller_spacing == pytest.approx(math.radians(18.0))
+    assert case.material.youngs_modulus == pytest.approx(210e9)
+    assert case.operating.load == pytest.approx(50e3)
+    assert case.operating.speed == pytest.approx(500 * 2 * math.pi / 60)
+    assert case.operating.shaft_hz == pytest.approx(500 / 60)
+    assert case.defect.angle == 0.0 and case.defect.race == "outer" and case.defect.present
+    assert case.defect.length == pytest.approx(0.01)
+    assert case.defect.depth == pytest.approx(2e-4)
+    assert case.run.duration == pytest.approx(0.03)
+    assert case.run.first_roller_angle == pytest.approx(math.radians(-5.0))
+    assert case.run.sample_rate == pytest.approx(1e5)
+    assert case.contact.friction_decay == pytest.approx(1.0)
+    assert case.cage.mass == pytest.approx(2.0)
+    assert case.sensors["adapter_top"].y == pytest.approx(0.156)
+    assert case.output.dir is None and case.out_dir == Path("runs/line_spall")
+
+
+def test_attribute_is_key_without_unit_suffix():
+    attrs = schema_attributes()
+    assert attrs["bearing"][:3] == ["n_rollers", "roller_diameter", "pitch_diameter"]
+    assert attrs["material"] == ["youngs_modulus", "poissons_ratio", "density"]
+    assert attrs["defect"] == ["race", "angle", "length", "depth"]
+    assert attrs["operating"] == ["load", "speed"]
+    assert attrs["contact"][4] == "friction_decay"
+    assert attrs["sensors"] == ["x", "y"]
+
+
+def test_round_trip(tmp_path, raw, default_case_path):
+    case = load_case(default_case_path)
+    assert case_to_dict(case) == raw  # every key and value of the file comes back
+    again = load_case(write(tmp_path, case_to_dict(case)))
+    assert again.source != case.source
+    assert dataclasses.replace(again, source=None) == dataclasses.replace(case, source=None)
+
+
+def test_clearance_is_shared_by_both_raceways(tmp_path, default_case_path):
+    case = load_case(default_case_path, ["bearing.radial_clearance_mm=0.04"])
+    b = case.bearing
+    # total radial play: (R_o - R_i - d) on each side, twice
+    assert 2 * (b.outer_raceway_radius - b.inner_raceway_radius - b.roller_diameter) == (
+        pytest.approx(4e-5)
+    )
+    assert b.outer_raceway_radius + b.inner_raceway_radius == pytest.approx(b.pitch_diameter)
+
+
+def test_unknown_key_suggests_nearest(raw):
+    raw["bearing"]["n_roler"] = 3
+    err = error_of(raw)
+    assert err.key == "bearing.n_roler"
+    assert "did you mean 'bearing.n_rollers'" in str(err)
+    assert str(err).startswith("x.yaml: bearing.n_roler:")
+
+
+def test_unknown_section_suggests_nearest(raw):
+    raw["bearng"] = raw.pop("bearing")
+    err = error_of(raw)
+    assert err.key == "bearng" and "did you mean 'bearing'" in str(err)
+
+
+def test_unknown_sensor_key(raw):
+    raw["sensors"]["adapter_top"]["z_mm"] = 1.0
+    assert error_of(raw).key == "sensors.adapter_top.z_mm"
+
+
+def test_missing_key_and_section(raw):
+    del raw["bearing"]["roller_length_mm"]
+    err = error_of(raw)
+    assert err.key == "bearing.roller_length_mm" and "missing" in str(err)
+    raw2 = yaml.safe_load(Path(ROOT / "cases/line_spall.yaml").read_text())
+    del raw2["operating"]
+    assert error_of(raw2).key == "operating"
+
+
+def test_output_section_is_optional(raw):
+    del raw["output"]
+    case = parse_case(raw)
+    assert case.output.dir is None and case.output.csv is False and case.output.frames is True
+
+
+@pytest.mark.parametrize(
+    ("section", "key", "value"),
+    [
+        ("bearing", "n_rollers", 20.5),
+        ("bearing", "n_rollers", True),
+        ("operating", "load_kN", "fifty"),
+        ("operating", "load_kN", [50]),
+        ("output", "csv", "yes"),
+        ("run", "arch", "tpu"),
+        ("defect", "race", "cage"),
+        ("material", "density_kg_m3", float("nan")),
+    ],
+)
+def test_wrong_type_or_choice(raw, section, key, value):
+    raw[section][key] = value
+    err = error_of(raw)
+    assert err.key == f"{section}.{key}" and "expected" in str(err)
+
+
+@pytest.mark.parametrize(
+    ("section", "key", "value"),
+    [
+        ("operating", "load_kN", -50.0),
+        ("operating", "load_kN", 0.0),
+        ("operating", "speed_rpm", -1.0),
+        ("material", "poissons_ratio", 0.5),
+        ("bearing", "roller_diameter_mm", -24.0),
+        ("defect", "angle_deg", 200.0),
+        ("mesh", "growth", 0.9),
+        ("preload", "max_steps", 0),
+    ],
+)
+def test_out_of_range(raw, section, key, value):
+    raw[section][key] = value
+    err = error_of(raw)
+    assert err.key == f"{section}.{key}" and "out of range" in str(err)
+
+
+@pytest.mark.parametrize(
+    ("overrides", "key", "words"),
+    [
+        ({"bearing.n_rollers": 30}, "bearing.n_rollers", "overlap"),  # 26 fit at most
+        ({"bearing.roller_diameter_mm": 250.0}, "bearing.roller_diameter_mm", "smaller"),
+        ({"bearing.radial_clearance_mm": -1.0}, "bearing.radial_clearance_mm", "do not fit"),
+        ({"bearing.inner_ring_thickness_mm": 90.0}, "bearing.inner_ring_thickness_mm", "bore"),
+        ({"defect.depth_mm": 14.0}, "defect.depth_mm", "deeper than the outer ring"),
+        ({"defect.race": "inner", "defect.depth_mm": 12.5}, "defect.depth_mm", "inner ring"),
+        ({"defect.length_mm": 400.0}, "defect.length_mm", "half the outer raceway"),
+        ({"defect.length_mm": 0.0}, "defect.length_mm", "race: none"),
+        ({"contact.friction_dynamic": 0.3}, "contact.friction_dynamic", "exceeds"),
+        ({"mesh.surface_size_mm": 4.0}, "mesh.surface_size_mm", "exceeds"),
+        ({"bearing.adapter_width_mm": 300.0}, "bearing.adapter_width_mm", "wider"),
+    ],
+)
+def test_physically_impossible(default_case_path, overrides, key, words):
+    sets = [f"{k}={v}" for k, v in overrides.items()]
+    with pytest.raises(CaseError) as info:
+        load_case(default_case_path, sets)
+    assert info.value.key == key
+    assert words in str(info.value)
+
+
+def test_rollers_that_just_fit(default_case_path):
+    # 26 rollers of 24 mm: chord 200 sin(pi/26) = 24.1 mm > 24 mm, so they fit
+    assert load_case(default_case_path, ["bearing.n_rollers=26"]).bearing.n_rollers == 26
+
+
+def test_extended_defect_warns_but_loads(default_case_path):
+    # roller spacing on the outer raceway: 2 pi 112 / 20 = 35.19 mm
+    with pytest.warns(ExtendedDefectWarning, match="extended defect"):
+        case = load_case(default_case_path, ["defect.length_mm=36"])
+    assert case.defect.length == pytest.approx(0.036)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", ExtendedDefectWarning)
+        load_case(default_case_path, ["defect.length_mm=35"])
+
+
+def test_healthy_case(default_case_path):
+    case = load_case(default_case_path, ["defect.race=none"])
+    assert not case.defect.present
+
+
+def test_overrides(default_case_path):
+    case = load_case(
+        default_case_path,
+        [
+            "operating.load_kN=80",
+            "run.arch=cuda",
+            "output.csv=true",
+            "sensors.new_point.x_mm=10",
+            "sensors.new_point.y_mm=-20.5",
+            "bearing.n_rollers=18",
+        ],
+    )
+    assert case.operating.load == pytest.approx(80e3)
+    assert case.run.arch == "cuda" and case.output.csv is True
+    assert case.sensors["new_point"].x == pytest.approx(0.01)
+    assert case.sensors["new_point"].y == pytest.approx(-0.0205)
+    assert case.bearing.n_rollers == 18
+
+
+@pytest.mark.parametrize(
+    ("override", "key"),
+    [
+        ("operating.load_kN", "--set"),
+        ("operating.lod_kN=3", "operating.lod_kN"),
+        ("opperating.load_kN=3", "opperating"),
+        ("operating.load_kN=-3", "operating.load_kN"),
+        ("sensors.half.x_mm=3", "sensors.half.y_mm"),
+    ],
+)
+def test_bad_overrides(default_case_path, override, key):
+    with pytest.raises(CaseError) as info:
+        load_case(default_case_path, [override])
+    assert info.value.key == key
+
+
+def test_bad_yaml_names_the_line(tmp_path):
+    path = tmp_path / "bad.yaml"
+    path.write_text("name: x\nbearing:\n  n_rollers: [1, 2\n")
+    with pytest.raises(CaseError) as info:
+        load_case(path)
+    assert str(path) in str(info.value) and "line" in info.value.key
+
+
+def _cli(*args: str) -> subprocess.CompletedProcess:
+    return subprocess.run(
+        [sys.executable, "-m", "taichi_bearing", *args],
+        capture_output=True,
+        text=True,
+        cwd=ROOT,
+        timeout=120,
+    )
+
+
+@pytest.mark.parametrize("command", [[], ["run"], ["analytic"]])
+def test_cli_bad_case_one_line_exit_2(tmp_path, raw, command):
+    raw["bearing"]["roller_diameter_mm"] = "big"
+    path = write(tmp_path, raw)
+    proc = _cli(*command, str(path))
+    assert proc.returncode == 2
+    lines = proc.stderr.strip().splitlines()
+    assert len(lines) == 1, proc.stderr
+    assert "bearing.roller_diameter_mm" in lines[0] and "Traceback" not in proc.stderr
+
+
+def test_cli_bad_override_exit_2(default_case_path):
+    proc = _cli(str(default_case_path), "--set", "bearing.n_roler=3")
+    assert proc.returncode == 2
+    assert proc.stderr.strip().splitlines() == [
+        f"error: {default_case_path}: bearing.n_roler: unknown key; did you mean "
+        "'bearing.n_rollers'?"
+    ]
+
+
+def test_cli_missing_file_exit_2(tmp_path):
+    proc = _cli(str(tmp_path / "nope.yaml"))
+    assert proc.returncode == 2 and len(proc.stderr.strip().splitlines()) == 1
