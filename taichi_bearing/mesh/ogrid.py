@@ -97,7 +97,12 @@ def o_grid_disk(
         return (1 - blend[k]) * circle + blend[k] * square_point(u, n_surface, half)
 
     strip = build_strip(
-        np.arange(n_surface, dtype=float), plans, between_levels(level_point), periodic=True
+        np.arange(n_surface, dtype=float),
+        plans,
+        between_levels(level_point),
+        periodic=True,
+        breaks=np.array([0, p, p + q, 2 * p + q], dtype=float),
+        period=float(n_surface),
     )
     # Core: a Coons patch on the innermost level, p' x q' cells.
     last = strip.nodes[strip.levels[-1]]

@@ -96,8 +96,11 @@ class MeshStatistics:
             f"mesh: {self.n_elements} elements, {self.n_nodes} nodes",
             f"{'part':<14}{'elements':>10}{'nodes':>10}",
         ]
-        for name, n in self.part_elements.items():
-            lines.append(f"{name:<14}{n:>10}{self.part_nodes[name]:>10}")
+        for label, names in _group_rollers(self.part_elements):
+            ne = [self.part_elements[n] for n in names]
+            nn = [self.part_nodes[n] for n in names]
+            each = " each" if len(names) > 1 else ""
+            lines.append(f"{label:<14}{_span(ne):>10}{_span(nn):>10}{each}")
         lines += [
             f"element size   {1e3 * self.min_size:.4g} .. {1e3 * self.max_size:.4g} mm "
             "(shortest edge .. longest edge)",
@@ -108,9 +111,31 @@ class MeshStatistics:
             f"critical time step {1e9 * self.critical_dt:.4g} ns (solver uses 0.9 x)",
         ]
         if self.polygon_edges:
-            edges = ", ".join(f"{k} {v}" for k, v in self.polygon_edges.items())
-            lines.append(f"polygon edges: {edges}")
+            groups = _group_rollers(self.polygon_edges)
+            edges = ", ".join(
+                f"{label} {_span([self.polygon_edges[n] for n in names])}"
+                for label, names in groups
+            )
+            lines.append(f"polygon edges per turn: {edges}")
         return "\n".join(lines)
+
+
+def _group_rollers(per_part: dict[str, int]) -> list[tuple[str, list[str]]]:
+    """Parts in order, with all ``roller<j>`` gathered into one ``rollers (Z)`` entry."""
+    rollers = [k for k in per_part if k.startswith("roller") and k[6:].isdigit()]
+    out = []
+    for name in per_part:
+        if name in rollers:
+            if name == rollers[0]:
+                out.append((f"rollers ({len(rollers)})", rollers))
+        else:
+            out.append((name, [name]))
+    return out
+
+
+def _span(values: list[int]) -> str:
+    lo, hi = min(values), max(values)
+    return f"{lo}" if lo == hi else f"{lo}-{hi}"
 
 
 def mesh_statistics(

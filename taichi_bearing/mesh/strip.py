@@ -75,7 +75,8 @@ def coarse_count(n_fine: int, ratio: float) -> int:
     lo = max(1, -(-n_fine // 3))
     best = None
     for n in range(lo, n_fine + 1):
-        if (n_fine - n) % 2 == 0 and (best is None or abs(n - target) < abs(best - target)):
+        # Ties go to the finer count: plain cells shape better than 3:1 templates.
+        if (n_fine - n) % 2 == 0 and (best is None or abs(n - target) <= abs(best - target)):
             best = n
     if best is None:
         raise ValueError(f"no coarser count for {n_fine} cells")
@@ -101,6 +102,8 @@ def build_strip(
     row_plans: Sequence[Sequence[int] | None],
     point: Callable[[float, np.ndarray], np.ndarray],
     periodic: bool,
+    breaks: np.ndarray | None = None,
+    period: float | None = None,
 ) -> Strip:
     """Mesh a stack of levels joined by plain or coarsening rows.
 
@@ -117,6 +120,12 @@ def build_strip(
     periodic : bool
         Whether the levels are closed curves (the last cell joins the last node to the
         first).
+    breaks : ndarray, optional
+        Positions that are nodes on every level (arc ends). When given, each coarsened
+        level is re-spaced evenly between them, so that plain cells left in a coarsening
+        row do not stay as narrow columns up the strip.
+    period : float, optional
+        Length of ``u`` over one turn of a periodic strip (needed with ``breaks``).
 
     Returns
     -------
@@ -139,11 +148,18 @@ def build_strip(
             plan = [1] * n_cells
         kept, quads, interior_u = _row_topology(list(plan), n_cells, periodic)
         u_coarse = u[kept]
+        u_interior = u[np.asarray(interior_u, dtype=np.int64)]
+        if breaks is not None and len(kept) != len(u):
+            u_coarse = respace(u_coarse, breaks, period if periodic else None)
+            # Interior nodes sit halfway up the row: move them half as far as the coarse
+            # nodes around them moved.
+            shift = _interpolate_by_index(kept, u_coarse - u[kept], len(u), periodic)
+            u_interior = u_interior + 0.5 * shift[np.asarray(interior_u, dtype=np.int64)]
         coarse = n_nodes + np.arange(len(u_coarse))
         interior = n_nodes + len(u_coarse) + np.arange(len(interior_u))
         pts.append(point(float(k + 1), u_coarse))
         if len(interior_u):
-            pts.append(point(k + _INTERIOR_HEIGHT, u[np.asarray(interior_u)]))
+            pts.append(point(k + _INTERIOR_HEIGHT, u_interior))
         n_nodes += len(u_coarse) + len(interior_u)
         # Local ids: ("f", i) fine index, ("c", i) coarse index, ("m", i) interior index.
         lookup = {"f": fine, "c": coarse, "m": interior}
@@ -211,6 +227,39 @@ def _row_topology(plan: list[int], n_cells: int, periodic: bool):
                 (m1, m2, c(i + 4), c(i + 2)),
             ]
     return np.asarray(kept, dtype=np.int64), quads, interior_u
+
+
+def respace(u: np.ndarray, breaks: np.ndarray, period: float | None) -> np.ndarray:
+    """Positions ``u`` moved to even spacing between consecutive ``breaks`` (which are
+    themselves among ``u``); the count in every arc is kept."""
+    u = np.asarray(u, dtype=float)
+    idx = sorted({int(np.argmin(np.abs(_wrap(u - b, period)))) for b in np.atleast_1d(breaks)})
+    out = u.copy()
+    if period is not None:
+        idx.append(idx[0] + len(u))
+    for i, j in zip(idx[:-1], idx[1:], strict=True):
+        a = u[i]
+        b = u[j % len(u)] + (period if (period is not None and j >= len(u)) else 0.0)
+        k = np.arange(i, j)
+        out[k % len(u)] = a + (b - a) * (k - i) / (j - i)
+    return out
+
+
+def _interpolate_by_index(
+    kept: np.ndarray, values: np.ndarray, n: int, periodic: bool
+) -> np.ndarray:
+    """Values known at fine indices ``kept`` interpolated linearly to every fine index."""
+    x = np.asarray(kept, dtype=float)
+    if periodic:
+        x = np.concatenate([x - n, x, x + n])
+        values = np.concatenate([values, values, values])
+    return np.interp(np.arange(n, dtype=float), x, values)
+
+
+def _wrap(d: np.ndarray, period: float | None) -> np.ndarray:
+    if period is None:
+        return d
+    return np.mod(d + 0.5 * period, period) - 0.5 * period
 
 
 def between_levels(level_point: Callable[[int, np.ndarray], np.ndarray]):

@@ -1,0 +1,238 @@
+"""The whole bearing: outer ring with adapter, inner ring and rollers, as one :class:`Mesh`.
+
+Parts (in this order): ``outer_ring`` (the ring and the adapter on top of it, one body with
+shared nodes), ``inner_ring``, ``roller0`` ... ``roller{Z-1}`` (roller 0 at the first
+roller angle, numbered counter-clockwise). Separable bodies share no nodes. The cage is
+rigid: only its geometry is recorded, in ``mesh.info["cage"]``.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from taichi_bearing.mesh.adapter import adapter_corner_angles, adapter_mesh
+from taichi_bearing.mesh.grid import boundary_segments, chain_segments, merge_nodes, orient_ccw
+from taichi_bearing.mesh.rings import TWO_PI, Notch, RingMesh, ring_mesh
+from taichi_bearing.mesh.rollers import roller_mesh
+from taichi_bearing.mesh.spec import BearingMeshSpec, polar_from_top
+from taichi_bearing.mesh.types import Mesh
+
+TOP = math.pi / 2  # 12 o'clock, from +x
+
+
+def build_bearing_mesh(spec: BearingMeshSpec) -> Mesh:
+    """Mesh the bearing described by ``spec``.
+
+    Returns
+    -------
+    Mesh
+        With surfaces ``outer_raceway`` (including the spall's walls and floor),
+        ``inner_raceway`` and ``roller{j}``; node sets ``inner_bore`` and ``adapter_top``;
+        the spec's sensor nodes; and ``info`` holding polygon edge counts, roller centres,
+        the spall's exact geometry and the cage geometry.
+    """
+    if not spec.adapter_width > 0:
+        raise ValueError("adapter_width must be positive: the load is applied on the adapter")
+    notch_outer = _notch(spec, "outer", spec.outer_raceway_radius)
+    notch_inner = _notch(spec, "inner", spec.inner_raceway_radius)
+
+    outer, adapter_top = _outer_ring_with_adapter(spec, notch_outer)
+    inner = ring_mesh(
+        spec.inner_raceway_radius,
+        spec.inner_ring_thickness,
+        False,
+        [TOP] + _notch_breaks(notch_inner),
+        spec.surface_size,
+        spec.max_size,
+        spec.growth,
+        notch_inner,
+    )
+    bodies = [
+        ("outer_ring", outer.nodes, outer.elements),
+        ("inner_ring", inner.nodes, inner.elements),
+    ]
+    centres = []
+    for j, angle in enumerate(spec.roller_angles()):
+        centre = (spec.pitch_radius * math.cos(angle), spec.pitch_radius * math.sin(angle))
+        nodes, elements, _ = roller_mesh(
+            spec.roller_radius, spec.surface_size, spec.max_size, spec.growth, centre
+        )
+        bodies.append((f"roller{j}", nodes, elements))
+        centres.append(centre)
+
+    offsets = np.cumsum([0] + [len(n) for _, n, _ in bodies])
+    mesh = Mesh(
+        nodes=np.concatenate([n for _, n, _ in bodies]),
+        elements=np.concatenate([e + off for (_, _, e), off in zip(bodies, offsets, strict=False)]),
+        element_part=np.concatenate(
+            [np.full(len(e), p, dtype=np.int64) for p, (_, _, e) in enumerate(bodies)]
+        ),
+        part_names=[name for name, _, _ in bodies],
+    )
+    d_out = notch_outer.depth if notch_outer else 0.0
+    d_in = notch_inner.depth if notch_inner else 0.0
+    r_out, r_in = spec.outer_raceway_radius, spec.inner_raceway_radius
+    tol = 1e-9 * r_out
+    mesh.surfaces["outer_raceway"] = _body_surface(mesh, 0, lambda r: r <= r_out + d_out + tol)
+    mesh.surfaces["inner_raceway"] = _body_surface(mesh, 1, lambda r: r >= r_in - d_in - tol)
+    for j in range(spec.n_rollers):
+        mesh.surfaces[f"roller{j}"] = _body_surface(mesh, 2 + j, None)
+    mesh.node_sets["inner_bore"] = inner.back_ids + offsets[1]
+    mesh.node_sets["adapter_top"] = adapter_top
+    mesh.sensor_nodes = {
+        name: int(np.argmin(np.hypot(*(mesh.nodes - np.asarray(xy, dtype=float)).T)))
+        for name, xy in spec.sensors.items()
+    }
+    mesh.info = _info(spec, mesh, centres, outer, inner, notch_outer, notch_inner)
+    return mesh
+
+
+def _notch(spec: BearingMeshSpec, race: str, radius: float) -> Notch | None:
+    if not spec.has_defect or spec.defect_race != race:
+        return None
+    span = spec.defect_length / radius
+    start = polar_from_top(spec.defect_angle) - 0.5 * span
+    return Notch(start=start, span=span, depth=spec.defect_depth)
+
+
+def _notch_breaks(notch: Notch | None) -> list[float]:
+    return [] if notch is None else [notch.start, notch.start + notch.span]
+
+
+def _outer_ring_with_adapter(
+    spec: BearingMeshSpec, notch: Notch | None
+) -> tuple[RingMesh, np.ndarray]:
+    """The outer ring and the adapter merged into one body, and the adapter top's nodes."""
+    corners = adapter_corner_angles(spec.outer_ring_outer_radius, spec.adapter_width)
+    ring = ring_mesh(
+        spec.outer_raceway_radius,
+        spec.outer_ring_thickness,
+        True,
+        [TOP, *corners],
+        spec.surface_size,
+        spec.max_size,
+        spec.growth,
+        notch,
+    )
+    theta = np.mod(ring.back_theta, TWO_PI)
+    eps = 1e-9
+    under = (theta >= corners[0] - eps) & (theta <= corners[1] + eps)
+    ids = ring.back_ids[under][np.argsort(-theta[under])]  # left corner to right corner
+    a_nodes, a_elements, a_top = adapter_mesh(ring.nodes[ids], spec.adapter_top, spec.max_size)
+    n_ring = len(ring.nodes)
+    nodes = np.concatenate([ring.nodes, a_nodes])
+    elements = np.concatenate([ring.elements, a_elements + n_ring])
+    nodes, elements, new_index = merge_nodes(nodes, elements, tol=1e-9 * spec.adapter_top)
+    ring.nodes = nodes
+    ring.elements = orient_ccw(nodes, elements)
+    ring.back_ids = new_index[ring.back_ids]
+    return ring, new_index[a_top + n_ring]
+
+
+def _body_surface(mesh: Mesh, part: int, on_radius) -> np.ndarray:
+    """The closed boundary loop of one body, optionally only the segments whose two end
+    nodes' radii (about the origin) satisfy ``on_radius``."""
+    seg = boundary_segments(mesh.elements[mesh.element_part == part])
+    if on_radius is not None:
+        r = np.hypot(mesh.nodes[:, 0], mesh.nodes[:, 1])
+        seg = seg[on_radius(r[seg[:, 0]]) & on_radius(r[seg[:, 1]])]
+    chains = chain_segments(seg)
+    if len(chains) != 1 or chains[0][-1, 1] != chains[0][0, 0]:
+        raise RuntimeError(f"part {mesh.part_names[part]}: the surface is not one closed loop")
+    return chains[0]
+
+
+def _info(spec, mesh, centres, outer, inner, notch_outer, notch_inner) -> dict:
+    walls = {"outer_raceway": 0, "inner_raceway": 0}
+    spall = None
+    for race, notch, ring, radius in (
+        ("outer", notch_outer, outer, spec.outer_raceway_radius),
+        ("inner", notch_inner, inner, spec.inner_raceway_radius),
+    ):
+        if notch is None:
+            continue
+        walls[f"{race}_raceway"] = 2 * ring.n_thin
+        spall = _spall_info(mesh, race, notch, radius, ring.n_thin)
+    polygon = {
+        name: int(len(mesh.surfaces[name]) - walls[name])
+        for name in ("outer_raceway", "inner_raceway")
+    }
+    for j in range(spec.n_rollers):
+        polygon[f"roller{j}"] = int(len(mesh.surfaces[f"roller{j}"]))
+    angles = spec.roller_angles()
+    return {
+        "polygon_edges": polygon,
+        "polygon_edges_note": (
+            "facets a rolling contact crosses per turn of each surface (raceways: without "
+            "the spall walls)"
+        ),
+        "raceway_radii": {
+            "outer": spec.outer_raceway_radius,
+            "inner": spec.inner_raceway_radius,
+        },
+        "inner_bore_radius": spec.inner_ring_bore_radius,
+        "outer_ring_outer_radius": spec.outer_ring_outer_radius,
+        "roller_radius": spec.roller_radius,
+        "roller_centres": np.asarray(centres),
+        "roller_angles": np.asarray(angles),
+        "pitch_radius": spec.pitch_radius,
+        "adapter": {
+            "width": spec.adapter_width,
+            "height": spec.adapter_height,
+            "top_y": spec.adapter_top,
+        },
+        "sizes": {
+            "surface_size": spec.surface_size,
+            "max_size": spec.max_size,
+            "growth": spec.growth,
+        },
+        "spall": spall,
+        "cage": {
+            "model": "rigid",
+            "pitch_radius": spec.pitch_radius,
+            "pocket_angles": np.asarray(angles),
+            "pocket_angles_from_top": np.asarray(angles) - TOP,
+            "pocket_clearance": spec.cage_pocket_clearance,
+            "pocket_half_width": spec.roller_radius + spec.cage_pocket_clearance,
+            # A nominal ring between the rollers' inner and outer thirds.
+            "inner_radius": spec.pitch_radius - spec.roller_radius / 1.5,
+            "outer_radius": spec.pitch_radius + spec.roller_radius / 1.5,
+        },
+    }
+
+
+def _spall_info(mesh: Mesh, race: str, notch: Notch, radius: float, n_thin: int) -> dict:
+    """Exact spall geometry and its four corner nodes (edge, floor, floor, edge)."""
+    sign = 1.0 if race == "outer" else -1.0
+    floor = radius + sign * notch.depth
+    end = notch.start + notch.span
+    points = [
+        (radius, notch.start),
+        (floor, notch.start),
+        (floor, end),
+        (radius, end),
+    ]
+    corners = []
+    for r, a in points:
+        xy = np.array([r * math.cos(a), r * math.sin(a)])
+        d = np.hypot(*(mesh.nodes - xy).T)
+        k = int(np.argmin(d))
+        if d[k] > 1e-9:
+            raise RuntimeError(f"spall corner at r={r}, angle={a} is not a node")
+        corners.append(k)
+    centre = notch.start + 0.5 * notch.span
+    return {
+        "race": race,
+        "start_angle": notch.start,
+        "end_angle": end,
+        "centre_angle": centre,
+        "centre_angle_from_top": centre - TOP,
+        "length": notch.span * radius,
+        "depth": notch.depth,
+        "raceway_radius": radius,
+        "floor_radius": floor,
+        "wall_layers": n_thin,
+        "corner_nodes": np.asarray(corners),
+    }
