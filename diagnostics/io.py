@@ -103,9 +103,10 @@ def read_signal(path, channel=None, fs: float | None = None) -> Signal:
         )
     try:
         data, name, fs_file, meta = readers[suffix](path, channel)
-    except ValueError:
-        raise
-    except Exception as exc:  # corrupt or foreign files: one line naming the file
+    except Exception as exc:
+        if isinstance(exc, ValueError) and str(exc).startswith(str(path)):
+            raise  # our own message, already naming the file
+        # Corrupt or foreign files: one line naming the file and what the parser said.
         raise ValueError(f"{path}: cannot read as {suffix[1:]} ({exc})") from None
     rate = _resolve_fs(path, fs, fs_file)
     x = check_signal(data, rate, name=f"{path.name}:{name}")

@@ -1,0 +1,38 @@
+"""diagnostics stands alone: importing any of its modules never imports taichi."""
+
+from __future__ import annotations
+
+import os
+import subprocess
+import sys
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[1]
+
+SCRIPT = """
+import importlib, pkgutil, sys
+import diagnostics
+names = sorted(m.name for m in pkgutil.iter_modules(diagnostics.__path__)
+               if not m.name.startswith("__"))
+for name in names:
+    importlib.import_module("diagnostics." + name)
+loaded = sorted(m for m in sys.modules if m.split(".")[0] in ("taichi", "taichi_bearing"))
+assert not loaded, loaded
+print(",".join(names))
+"""
+
+
+def test_importing_every_diagnostics_module_leaves_taichi_unloaded():
+    env = dict(os.environ, MPLBACKEND="Agg", PYTHONPATH=str(ROOT))
+    result = subprocess.run(
+        [sys.executable, "-c", SCRIPT],
+        cwd=ROOT,
+        env=env,
+        capture_output=True,
+        text=True,
+        timeout=120,
+    )
+    assert result.returncode == 0, result.stderr
+    imported = set(result.stdout.strip().split(","))
+    expected = {"_checks", "filters", "envelope", "spectral", "kurtosis", "io", "frequencies"}
+    assert expected <= imported
