@@ -1,0 +1,550 @@
+"""Automatic bearing fault diagnosis from one vibration record.
+
+Method (Randall and Antoni 2011; Smith and Randall 2015, the CWRU benchmark):
+
+1. Cepstral prewhitening (CPW): the spectrum is divided by its own modulus, which flattens
+   it and removes the discrete components (shaft harmonics, gear and electrical tones) that
+   otherwise dominate the envelope, while the impulsive bearing content keeps its timing.
+2. Candidate demodulation bands: the whole prewhitened band, and the best band of Antoni's
+   fast kurtogram of the prewhitened signal (among the bands wide enough to hold at least
+   two harmonics of the fault frequencies). The evidence of the stronger band is kept.
+3. Squared envelope spectrum (SES) of each band, normalised by its local background: the
+   running median over a window of a fraction of the fault frequencies, divided by ln 2. For
+   a random (fault-free) signal each SES bin is then close to an exponential variable of unit
+   mean, so a normalised value ``z`` has the tail probability ``exp(-z)``.
+4. Each fault family is a harmonic comb with one common fundamental searched within
+   +-``slip`` of its kinematic value (rollers slip by 1-2 %, and a logged speed is not exact):
+   outer race k*BPFO, inner race k*BPFI, rolling element k*2*BSF. Shaft harmonics are masked
+   out, since they are present in every record.
+5. Statistics. A harmonic line is significant when its normalised value exceeds
+   ``ln(W / alpha_line)``, W being the number of bins its slip window spans (a Bonferroni
+   bound on the maximum of W exponential bins). A family is detected when at least two of
+   its harmonics are significant: a single line near a fault frequency is no evidence of a
+   fault (a healthy bearing's varying compliance, or any other periodic source, can give one),
+   a series of harmonics is the mark of repetitive impacts. Under the no-fault hypothesis the
+   chance that two of K independent harmonic windows both pass is at most
+   ``C(K, 2) * alpha_line**2``; ``alpha_line`` is set so that this, summed over the families
+   and the candidate bands, is ``alpha`` (1e-4 by default): the healthy threshold comes from
+   that false-alarm probability, not from example records.
+6. Verdict: among the detected families, the one with the largest evidence (the sum of the
+   normalised values of its significant harmonics, each close to -ln p of that line). Lines
+   shared by two families (2 BPFI is within 0.7 % of 3 BPFO on many bearings) count for
+   both, so the family that explains the other harmonics too wins. Sidebands (BPFI +- shaft
+   rate, 2 BSF +- cage rate) are measured at the found lines and reported.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+from scipy import fft as sp_fft
+from scipy import ndimage, signal
+
+from diagnostics._checks import check_positive, check_positive_int, check_signal
+from diagnostics.envelope import envelope_spectrum
+from diagnostics.frequencies import BearingGeometry, FaultFrequencies, bearing_frequencies
+from diagnostics.kurtosis import kurtogram
+
+__all__ = [
+    "FAMILIES",
+    "FamilyScore",
+    "BandScore",
+    "Diagnosis",
+    "diagnose",
+    "prewhiten",
+    "normalised_envelope_spectrum",
+]
+
+FAMILIES = ("outer", "inner", "ball")
+
+# Prewhitening tapers the record ends over this time and then drops them: the circular FFT
+# would otherwise see a step where the end wraps onto the start, and whitening turns that
+# step into a huge spurious impulse.
+_TAPER_S = 0.05
+# Background window half-width, as a fraction of the lowest comb fundamental.
+_BACKGROUND_FRACTION = 0.1
+# Bins either side of a shaft harmonic that are masked out of every comb.
+_SHAFT_MASK_BINS = 2.5
+# Harmonics are sought only up to this fraction of a band's width: the squared envelope of
+# a band of width B holds modulation frequencies up to B, with a triangular weight.
+_USABLE_FRACTION = 0.8
+
+
+@dataclass(frozen=True)
+class FamilyScore:
+    """Evidence for one fault family in one demodulation band.
+
+    Attributes
+    ----------
+    family : str
+        ``"outer"``, ``"inner"`` or ``"ball"``.
+    band : tuple of float
+        Demodulation band (f_lo, f_hi) in Hz.
+    expected_hz : float
+        Kinematic comb fundamental (BPFO, BPFI or 2*BSF).
+    found_hz : float
+        Fundamental of the best comb within the slip tolerance.
+    lines_hz : numpy.ndarray
+        Harmonic frequencies k * found_hz, k = 1..K.
+    z : numpy.ndarray
+        Background-normalised SES value at each harmonic.
+    threshold : numpy.ndarray
+        Significance threshold of each harmonic.
+    n_significant : int
+        Harmonics above their threshold.
+    evidence : float
+        Sum of ``z`` over the significant harmonics (0 when none).
+    sideband_hz : float
+        Modulation rate whose sidebands were measured (shaft rate for the inner race, cage
+        rate for the rolling elements, 0 for the outer race).
+    sideband_z : numpy.ndarray
+        Normalised SES value at k * found_hz - sideband_hz and + sideband_hz (2 x K).
+    n_sidebands_significant : int
+        Sidebands above their threshold.
+    """
+
+    family: str
+    band: tuple[float, float]
+    expected_hz: float
+    found_hz: float
+    lines_hz: np.ndarray = field(repr=False)
+    z: np.ndarray
+    threshold: np.ndarray = field(repr=False)
+    n_significant: int
+    evidence: float
+    sideband_hz: float = 0.0
+    sideband_z: np.ndarray = field(default_factory=lambda: np.zeros((2, 0)), repr=False)
+    n_sidebands_significant: int = 0
+    resolution_hz: float = 0.0
+
+    @property
+    def detected(self) -> bool:
+        """At least two harmonics are significant."""
+        return self.n_significant >= 2
+
+    def near_miss(self) -> float:
+        """Second-largest ratio z / threshold over the harmonics, in [0, 1]: how close the
+        family came to detection (1 or more means detected)."""
+        if self.z.size < 2:
+            return 0.0
+        ratio = np.sort(self.z / self.threshold)[-2]
+        return float(min(max(ratio, 0.0), 1.0))
+
+
+@dataclass(frozen=True)
+class BandScore:
+    """One candidate demodulation band and the scores of every family in it."""
+
+    name: str
+    band: tuple[float, float]
+    kurtosis: float
+    f: np.ndarray = field(repr=False)
+    z: np.ndarray = field(repr=False)
+    families: dict[str, FamilyScore | None] = field(repr=False)
+
+
+@dataclass(frozen=True)
+class Diagnosis:
+    """Result of :func:`diagnose`.
+
+    Attributes
+    ----------
+    fault : str
+        ``"outer"``, ``"inner"``, ``"ball"`` or ``"none"``.
+    band : tuple of float
+        Demodulation band (Hz) of the verdict: the band of the winning family, or for
+        ``"none"`` the band where the strongest (undetected) evidence was seen.
+    scores : dict
+        Evidence per family (sum of the normalised SES values of its significant harmonics,
+        best band); 0 where no harmonic is significant.
+    confidence : float
+        In [0, 1]. For a fault: its evidence over its own plus that of the next detected
+        family (1 when no other family is detected). For ``"none"``: one minus how close the
+        nearest family came to a second significant harmonic.
+    frequencies : FaultFrequencies
+        Kinematic frequencies at ``shaft_hz``.
+    families : dict
+        Best :class:`FamilyScore` per family (over the candidate bands).
+    bands : tuple of BandScore
+        Every candidate band.
+    kurtogram : object
+        Fast kurtogram of the prewhitened signal (``diagnostics.kurtosis.Kurtogram``), or None.
+    alpha : float
+        False-alarm probability the detection thresholds were set for.
+    """
+
+    fault: str
+    band: tuple[float, float]
+    scores: dict[str, float]
+    confidence: float
+    frequencies: FaultFrequencies
+    families: dict[str, FamilyScore | None] = field(repr=False)
+    bands: tuple[BandScore, ...] = field(repr=False)
+    kurtogram: object | None = field(default=None, repr=False)
+    alpha: float = 1e-4
+
+    @property
+    def best_band(self) -> BandScore:
+        """The candidate band the verdict came from."""
+        for b in self.bands:
+            if b.band == self.band:
+                return b
+        return self.bands[0]
+
+
+def check_bearing_inputs(geometry, fs: float, shaft_hz: float) -> tuple[float, float]:
+    """Check the arguments every bearing analysis takes; return ``(fs, shaft_hz)`` as floats.
+
+    Raises
+    ------
+    ValueError
+        If ``geometry`` is not a BearingGeometry or a rate is not finite and positive.
+    """
+    if not isinstance(geometry, BearingGeometry):
+        raise ValueError(f"geometry must be a BearingGeometry, got {type(geometry).__name__}")
+    fs = check_positive(fs, "fs", unit=" in Hz")
+    shaft_hz = check_positive(shaft_hz, "shaft_hz", unit=" in Hz")
+    return fs, shaft_hz
+
+
+def _fast_length(n: int) -> int:
+    """Largest length <= n whose real FFT is fast (no large prime factor)."""
+    m = n
+    while m > 1 and sp_fft.next_fast_len(m, real=True) != m:
+        m -= 1
+    return m
+
+
+def prewhiten(x, fs: float, taper_s: float = _TAPER_S) -> np.ndarray:
+    """Cepstral prewhitening: the signal with its spectrum set to unit modulus.
+
+    Equivalent to removing the real cepstrum except at quefrency zero (Sawalhi and Randall):
+    the spectral envelope (resonances) and the discrete components are flattened while the
+    phases, hence the timing of impulses, are kept. The record ends are tapered over
+    ``taper_s`` seconds before the transform and dropped afterwards.
+
+    Parameters
+    ----------
+    x : array_like
+        1-D signal.
+    fs : float
+        Sampling rate in Hz.
+    taper_s : float
+        Taper length at each end, in seconds (at most 5 % of the record).
+
+    Returns
+    -------
+    numpy.ndarray
+        Prewhitened signal, shorter than ``x`` by the two tapers.
+    """
+    x = check_signal(x, fs, min_length=16)
+    m = int(min(round(taper_s * fs), 0.05 * x.size))
+    # Drop a few samples so that this and every later FFT has a fast (5-smooth) length.
+    n = _fast_length(x.size - 2 * m) + 2 * m
+    x = x[:n]
+    window = signal.windows.tukey(n, 2.0 * m / n) if m > 0 else np.ones(n)
+    spec = np.fft.rfft((x - x.mean()) * window)
+    mag = np.abs(spec)
+    floor = 1e-12 * mag.max() if mag.max() > 0 else 1.0
+    white = np.fft.irfft(spec / np.maximum(mag, floor), n)
+    white = white[m : n - m] if m > 0 else white
+    # Unit variance: the kurtogram compares band powers with machine epsilon.
+    return white / white.std()
+
+
+def normalised_envelope_spectrum(
+    y, fs: float, band: tuple[float, float] | None, f_max: float, half_window_hz: float
+) -> tuple[np.ndarray, np.ndarray]:
+    """Squared envelope power spectrum divided by its local background, up to ``f_max``.
+
+    The background is the running median over +-``half_window_hz`` divided by ln 2 (the
+    median of a unit-mean exponential variable), so random bins read about 1.
+
+    Returns
+    -------
+    f, z : numpy.ndarray
+        Frequencies (Hz) and normalised power.
+    """
+    f, amp = envelope_spectrum(y, fs, band=band, squared=True)
+    n = int(min(np.searchsorted(f, f_max) + 1, f.size))
+    f = f[:n]
+    power = amp[:n] ** 2
+    df = f[1] - f[0]
+    half = max(int(round(half_window_hz / df)), 10)
+    background = ndimage.median_filter(power, size=2 * half + 1, mode="nearest") / math.log(2.0)
+    tiny = np.finfo(float).tiny
+    z = power / np.maximum(background, tiny)
+    z[0] = 0.0
+    return f, z
+
+
+def _line_values(z: np.ndarray, df: float, freqs: np.ndarray) -> np.ndarray:
+    # A line falls between two bins; take the larger (rectangular-window scalloping).
+    pos = freqs / df
+    lo = np.clip(np.floor(pos).astype(int), 0, z.size - 1)
+    hi = np.clip(lo + 1, 0, z.size - 1)
+    return np.maximum(z[lo], z[hi])
+
+
+def _shaft_mask(f: np.ndarray, shaft_hz: float) -> np.ndarray:
+    df = f[1] - f[0]
+    nearest = np.round(f / shaft_hz) * shaft_hz
+    mask = np.abs(f - nearest) <= _SHAFT_MASK_BINS * df
+    mask |= f < 0.5 * shaft_hz
+    return mask
+
+
+def _score_family(
+    family: str,
+    f: np.ndarray,
+    z_masked: np.ndarray,
+    f0: float,
+    n_harm: int,
+    slip: float,
+    alpha_line: float,
+    band: tuple[float, float],
+    sideband_hz: float,
+) -> FamilyScore:
+    df = f[1] - f[0]
+    k = np.arange(1, n_harm + 1)
+    # Comb fundamentals fine enough that the top harmonic moves by half a bin per step.
+    step = df / (2.0 * n_harm)
+    cands = np.arange(f0 * (1.0 - slip), f0 * (1.0 + slip) + step, step)
+    values = _line_values(z_masked, df, np.outer(cands, k))
+    # log1p: the comb is placed by the whole series, not dragged by one strong line.
+    best = int(np.argmax(np.log1p(values).sum(axis=1)))
+    fc = float(cands[best])
+    zk = values[best]
+    windows = 2.0 * slip * k * f0 / df + 2.0
+    thr = np.log(windows / alpha_line)
+    sig = zk > thr
+    if sideband_hz > 0.0:
+        # Sidebands sit at a fixed offset from the found line; allow a bin either side.
+        offsets = np.array([-sideband_hz, sideband_hz])
+        sb_freqs = k[None, :] * fc + offsets[:, None]
+        sb = np.stack(
+            [
+                np.max([_line_values(z_masked, df, sb_freqs[i] + d) for d in (-df, 0.0, df)], 0)
+                for i in range(2)
+            ]
+        )
+        sb_thr = math.log(4.0 / alpha_line)
+        n_sb = int((sb > sb_thr).sum())
+    else:
+        sb = np.zeros((2, 0))
+        n_sb = 0
+    return FamilyScore(
+        family=family,
+        band=band,
+        expected_hz=f0,
+        found_hz=fc,
+        lines_hz=k * fc,
+        z=zk,
+        threshold=thr,
+        n_significant=int(sig.sum()),
+        evidence=float(zk[sig].sum()),
+        sideband_hz=sideband_hz,
+        sideband_z=sb,
+        n_sidebands_significant=n_sb,
+        resolution_hz=df,
+    )
+
+
+def _unique_evidence(score: FamilyScore, others: list[FamilyScore]) -> float:
+    """Evidence of ``score`` from significant lines that no other family's comb explains.
+
+    Kinematics makes some lines common to two families: BPFO + BPFI is n times the shaft
+    rate, so 2 BPFI lies within 1 % of 3 BPFO on many bearings, and an outer-race fault with
+    shaft-rate modulation has a line at exactly BPFI. A shared line is evidence for neither.
+    """
+    keep = score.z > score.threshold
+    for other in others:
+        lines = other.found_hz * np.arange(1, 3 * other.z.size + 1)
+        tol = 2.0 * max(score.resolution_hz, other.resolution_hz)
+        distance = np.min(np.abs(score.lines_hz[:, None] - lines[None, :]), axis=1)
+        keep &= distance > tol
+    return float(score.z[keep].sum())
+
+
+def _family_fundamentals(freqs: FaultFrequencies) -> dict[str, tuple[float, float]]:
+    """Comb fundamental and sideband spacing of each family."""
+    return {
+        "outer": (freqs.bpfo, 0.0),
+        "inner": (freqs.bpfi, freqs.shaft),
+        "ball": (2.0 * freqs.bsf, freqs.ftf),
+    }
+
+
+def _kurtogram_band(kg, fs: float, bw_min: float) -> tuple[tuple[float, float], float] | None:
+    """Best band of a kurtogram among the bands at least ``bw_min`` wide."""
+    if kg.bw >= bw_min:
+        lo, hi = kg.fc - kg.bw / 2.0, kg.fc + kg.bw / 2.0
+        return (float(max(lo, 0.0)), float(min(hi, fs / 2.0))), float(kg.kurtosis)
+    levels = np.asarray(kg.levels, dtype=float)
+    K = np.asarray(kg.K, dtype=float)
+    bws = fs / 2.0 / 2.0**levels
+    rows = np.flatnonzero(bws >= bw_min)
+    if rows.size == 0:
+        return None
+    sub = K[rows]
+    r, c = np.unravel_index(int(np.argmax(sub)), sub.shape)
+    bw = bws[rows[r]]
+    # Columns tile 0..fs/2; the band is the tile of width bw holding column c.
+    fc_col = float(np.asarray(kg.freqs)[c])
+    lo = math.floor(fc_col / bw) * bw
+    return (float(lo), float(min(lo + bw, fs / 2.0))), float(sub[r, c])
+
+
+def _demod_band(band: tuple[float, float], fs: float) -> tuple[float, float] | None:
+    """A band as envelope_spectrum takes it; None for the whole band."""
+    lo, hi = band
+    if lo <= 0.0 and hi >= fs / 2.0:
+        return None
+    # A band from 0 Hz becomes a band-pass from a low edge (the filter needs one).
+    return max(lo, 1e-3 * fs), min(hi, fs / 2.0)
+
+
+def diagnose(
+    x,
+    fs: float,
+    geometry: BearingGeometry,
+    shaft_hz: float,
+    *,
+    slip: float = 0.02,
+    n_harmonics: int = 5,
+    alpha: float = 1e-4,
+    nlevel: int = 7,
+    use_kurtogram: bool = True,
+) -> Diagnosis:
+    """Diagnose a rolling element bearing from one vibration record.
+
+    Parameters
+    ----------
+    x : array_like
+        1-D acceleration (any unit), at least 20 periods of the slowest fault frequency.
+    fs : float
+        Sampling rate in Hz.
+    geometry : BearingGeometry
+        Bearing dimensions (metres).
+    shaft_hz : float
+        Shaft (inner ring) speed in Hz.
+    slip : float
+        Relative tolerance on every fault frequency (rolling slip and speed error).
+    n_harmonics : int
+        Harmonics per comb (fewer in a band too narrow to hold them).
+    alpha : float
+        Probability of calling a fault-free (random) record faulty, over all families and
+        candidate bands.
+    nlevel : int
+        Depth of the fast kurtogram (reduced for a record too short for it).
+    use_kurtogram : bool
+        Add the kurtogram's best bands to the whole prewhitened band.
+
+    Returns
+    -------
+    Diagnosis
+        Verdict, band, scores, confidence and the details behind them.
+
+    Raises
+    ------
+    ValueError
+        On an invalid signal, sampling rate, speed, option, or a record too short.
+
+    Examples
+    --------
+    >>> d = diagnose(x, 12000.0, BearingGeometry(9, 7.94e-3, 39.04e-3), 29.95)  # doctest: +SKIP
+    >>> d.fault, round(d.confidence, 2)                                          # doctest: +SKIP
+    ('outer', 1.0)
+    """
+    fs, shaft_hz = check_bearing_inputs(geometry, fs, shaft_hz)
+    slip = check_positive(slip, "slip")
+    if slip >= 0.1:
+        raise ValueError(f"slip must be below 0.1 (10 %), got {slip!r}")
+    n_harmonics = check_positive_int(n_harmonics, "n_harmonics", minimum=2)
+    alpha = check_positive(alpha, "alpha")
+    if alpha >= 1.0:
+        raise ValueError(f"alpha must be a probability below 1, got {alpha!r}")
+    freqs = bearing_frequencies(geometry, shaft_hz)
+    fundamentals = _family_fundamentals(freqs)
+    f_low = min(f0 for f0, _ in fundamentals.values())
+    f_high = max(f0 for f0, _ in fundamentals.values()) * (1.0 + slip)
+    if 2.0 * f_high >= _USABLE_FRACTION * fs / 2.0:
+        raise ValueError(
+            f"fs = {fs:g} Hz is too low for these fault frequencies (up to {f_high:.4g} Hz)"
+        )
+    min_len = int(math.ceil(20.0 * fs / f_low + 2 * _TAPER_S * fs))
+    x = check_signal(x, fs, min_length=min_len)
+
+    white = prewhiten(x, fs)
+    candidates: list[tuple[str, tuple[float, float], float]] = [
+        ("prewhitened", (0.0, fs / 2.0), 0.0)
+    ]
+    kg_white = None
+    # The fast kurtogram needs 2**(nlevel + 7) samples; a short record gets fewer levels.
+    levels = min(nlevel, int(math.log2(white.size)) - 7)
+    if use_kurtogram and levels >= 1:
+        bw_min = 2.0 * f_high / _USABLE_FRACTION
+        kg_white = kurtogram(white, fs, nlevel=levels)
+        found = _kurtogram_band(kg_white, fs, bw_min)
+        if found is not None:
+            candidates.append(("kurtogram", found[0], found[1]))
+
+    n_tests = len(FAMILIES) * len(candidates)
+    pairs = math.comb(n_harmonics, 2)
+    alpha_line = math.sqrt(alpha / (n_tests * pairs))
+    f_max = (n_harmonics + 1) * f_high + freqs.shaft
+    half_window = _BACKGROUND_FRACTION * f_low
+
+    bands: list[BandScore] = []
+    for name, band, kurt in candidates:
+        f, z = normalised_envelope_spectrum(white, fs, _demod_band(band, fs), f_max, half_window)
+        z_masked = np.where(_shaft_mask(f, freqs.shaft), 0.0, z)
+        width = band[1] - band[0]
+        scores: dict[str, FamilyScore | None] = {}
+        for family in FAMILIES:
+            f0, sb_hz = fundamentals[family]
+            n_harm = min(n_harmonics, int(_USABLE_FRACTION * width // (f0 * (1.0 + slip))))
+            if n_harm < 2:
+                scores[family] = None
+                continue
+            scores[family] = _score_family(
+                family, f, z_masked, f0, n_harm, slip, alpha_line, band, sb_hz
+            )
+        bands.append(BandScore(name, band, kurt, f, z, scores))
+
+    best: dict[str, FamilyScore | None] = {}
+    for family in FAMILIES:
+        options = [b.families[family] for b in bands if b.families[family] is not None]
+        best[family] = max(
+            options, key=lambda s: (s.detected, s.evidence, s.near_miss()), default=None
+        )
+    detected = [s for s in best.values() if s is not None and s.detected]
+    unique = {s.family: _unique_evidence(s, [o for o in detected if o is not s]) for s in detected}
+    scores_out = {fam: (best[fam].evidence if best[fam] is not None else 0.0) for fam in FAMILIES}
+    if detected:
+        # The verdict goes to the family whose own (unshared) lines carry most evidence.
+        ranked = sorted(detected, key=lambda s: (unique[s.family], s.evidence), reverse=True)
+        win = ranked[0]
+        second = unique[ranked[1].family] if len(ranked) > 1 else 0.0
+        fault, band = win.family, win.band
+        total = unique[win.family] + second
+        confidence = unique[win.family] / total if total > 0 else 0.5
+    else:
+        fault = "none"
+        present = [s for s in best.values() if s is not None]
+        nearest = max(present, key=lambda s: (s.near_miss(), s.evidence), default=None)
+        band = nearest.band if nearest is not None else bands[0].band
+        confidence = 1.0 - (nearest.near_miss() if nearest is not None else 0.0)
+    return Diagnosis(
+        fault=fault,
+        band=band,
+        scores=scores_out,
+        confidence=float(confidence),
+        frequencies=freqs,
+        families=best,
+        bands=tuple(bands),
+        kurtogram=kg_white,
+        alpha=alpha,
+    )
