@@ -13,8 +13,9 @@ roller forces on the outer ring add up to W to rounding error; the horizontal co
 are taken by the adapter's horizontal constraint (as in the finite element model).
 
 Line spall on the outer raceway (rectangular notch, arc length L, depth H, sharp edges).
-The rollers move counter-clockwise, so they enter at the lower angle. Each roller touches
-up to three supports, each a contact in series with the inner contact:
+The rollers move counter-clockwise, so they enter at the lower angle. Each roller may bear
+on three supports, each with its own drop h of the roller centre (the rigid geometric
+path: pivot on the entry edge, floor, pivot on the exit edge):
 
 - the raceway before the notch, ending at the entry corner: once the roller's foot has
   passed the corner the rigid roller pivots on it and its centre drops by
@@ -22,15 +23,18 @@ up to three supports, each a contact in series with the inner contact:
 - the floor of the notch, drop H;
 - the raceway after the notch, starting at the exit corner (mirror image of the first).
 
-A support with drop h carries ``Q = K_series(phi K_o, K_i) (delta_j - h)^n`` along the line
-from the roller centre to its contact point (radial on a surface, towards the corner when
-pivoting), where ``phi`` is the share of the Hertz pressure (semi-ellipse of half-width b,
-the healthy contact width at that deflection) that still lies on the support. phi falls
-from 1 to 0 as the patch crosses an edge (0.5 with the patch centred on the edge), so the
-contact loses support gradually and the force is continuous in cage angle. The floor
-counts only the patch that fits between the walls (phi = 0 against a wall), so landing on
-the floor is continuous too. Several supports of one roller act in parallel (a
-simplification that matters only when the roller touches a corner and the floor at once).
+The Hertz patch of the roller (half-width b, the healthy contact width at that
+deflection, centred on the roller's foot) is shared by the supports: each carries the
+share ``phi`` of the semi-elliptic pressure that lies over it, and
+
+    Q = K_n * sum_k phi_k (delta_j - h_k)^n
+
+along the line from the roller centre to the contact point (radial on a surface, towards
+the corner while pivoting). The shares add up to one, so a spall of zero depth is the
+healthy raceway; as the patch crosses an edge its share moves gradually (phi = 0.5 with
+the patch centred on the edge) and the force is continuous in cage angle. Where the drop
+exceeds the deflection (the usual spall) the floor carries nothing: the roller de-stresses
+over about 2b at the entry edge and re-stresses over about 2b at the exit edge.
 
 The inner contact carries the radial component of the roller's outer force; the
 tangential component (non-zero only while pivoting) is taken by the cage pocket.
@@ -61,6 +65,7 @@ from taichi_bearing.case import Bearing, Case, Material
 __all__ = [
     "ContactModel",
     "LoadDistribution",
+    "analytical_roller_forces",
     "Spall",
     "contact_model",
     "defect_sweep",
@@ -225,33 +230,33 @@ def _supports(psi, b, cm: ContactModel, spall: Spall | None, mode: str):
     r, r_o, depth = cm.roller_radius, cm.outer_raceway_radius, spall.depth
     rel = wrap_angle(psi - spall.centre)
     half = spall.half_angle
-    inside = np.abs(rel) < half
     if mode == "step":
-        h = np.where(inside, depth, 0.0)
+        h = np.where(np.abs(rel) < half, depth, 0.0)
         return h[None], np.ones((1, *psi.shape)), radial[None]
 
     past_entry = rel + half  # angle the roller centre is past the entry edge
     before_exit = half - rel  # angle before the exit edge
 
-    def edge_support(past, corner_angle, on_side):
-        h = np.where(past <= 0.0, 0.0, _corner_drop(np.maximum(past, 0.0), r, r_o))
-        h = np.where(on_side, h, np.inf)
-        phi = support_fraction(-r_o * past / b)
-        centre = (r_o - r + np.where(np.isfinite(h), h, 0.0))[..., None] * radial
+    def edge_support(past, corner_angle):
+        # on the raceway up to the edge, then pivoting on the corner; never lower than the
+        # floor, which stops the rigid roller first (and a zero-depth spall is flat)
+        corner = _corner_drop(np.maximum(past, 0.0), r, r_o)
+        pivoting = (past > 0.0) & (corner < depth)
+        h = np.where(past <= 0.0, 0.0, np.minimum(corner, depth))
+        centre = (r_o - r + h)[..., None] * radial
         to_corner = r_o * _unit(np.full_like(psi, corner_angle)) - centre
         to_corner /= np.linalg.norm(to_corner, axis=-1, keepdims=True)
-        u = np.where((past <= 0.0)[..., None], radial, to_corner)
-        return h, phi, u
+        u = np.where(pivoting[..., None], to_corner, radial)
+        return h, u
 
-    h_a, phi_a, u_a = edge_support(past_entry, spall.entry, rel < half)
-    h_b, phi_b, u_b = edge_support(before_exit, spall.exit, rel > -half)
-    # floor: only the part of the patch that fits between the walls bears on it
-    h_f = np.where(inside, depth, np.inf)
-    phi_f = support_fraction(r_o * past_entry / b - 1.0) * support_fraction(
-        r_o * before_exit / b - 1.0
-    )
-    h = np.stack([h_a, h_f, h_b])
-    phi = np.stack([phi_a, phi_f, phi_b])
+    h_a, u_a = edge_support(past_entry, spall.entry)
+    h_b, u_b = edge_support(before_exit, spall.exit)
+    # shares of the Hertz patch (centred on the roller's foot) over each support: they
+    # partition the patch, so a spall of zero depth is exactly the healthy raceway
+    below_entry = support_fraction(-r_o * past_entry / b)
+    below_exit = support_fraction(r_o * before_exit / b)
+    h = np.stack([h_a, np.full_like(psi, depth), h_b])
+    phi = np.stack([below_entry, below_exit - below_entry, 1.0 - below_exit])
     u = np.stack([u_a, radial, u_b])
     return h, phi, u
 
@@ -267,9 +272,8 @@ def _roller_forces(delta_r, psi, cm: ContactModel, spall: Spall | None, mode: st
         hertz_half_width(q_healthy, cm.roller_length, cm.outer_radius_eff, cm.e_star), 1e-9
     )
     h, phi, u = _supports(psi, b, cm, spall, mode)
-    k_eff = series_stiffness(phi * cm.k_outer, cm.k_inner, n)
     interference = np.maximum(approach[None] - h, 0.0)
-    q = k_eff * interference**n
+    q = k_n * phi * interference**n
     force = np.sum(q[..., None] * u, axis=0)
     # deflection of the support carrying most of the force (zero when nothing carries)
     main = np.argmax(q, axis=0)[None]
@@ -403,6 +407,16 @@ def defect_sweep(
     pitch = 2.0 * np.pi / case.bearing.n_rollers if span is None else span
     angles = centre + np.linspace(-0.5 * pitch, 0.5 * pitch, n_angles)
     return solve_case(case, angles, mode)
+
+
+def analytical_roller_forces(case: Case, cage_angle: float | None = None) -> np.ndarray:
+    """Outer contact force of each roller (N), spall included, for comparison with the
+    finite element preload (``summary.json: analytical_roller_forces_N``).
+
+    Roller 0 sits at ``cage_angle`` (default ``case.run.first_roller_angle``).
+    """
+    angle = case.run.first_roller_angle if cage_angle is None else cage_angle
+    return solve_case(case, angle).outer_force[0]
 
 
 STATIC_COLUMNS = (

@@ -73,6 +73,16 @@ def test_default_case_in_si(default_case_path):
     assert case.output.dir is None and case.out_dir == Path("runs/line_spall")
 
 
+@pytest.mark.parametrize(
+    "path", sorted((ROOT / "cases").glob("*.yaml")) + sorted((ROOT / "cases").glob("*/*.yaml"))
+)
+def test_every_shipped_case_loads(path):
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        case = load_case(path)
+    assert case.name == path.stem
+
+
 def test_attribute_is_key_without_unit_suffix():
     attrs = schema_attributes()
     assert attrs["bearing"][:3] == ["n_rollers", "roller_diameter", "pitch_diameter"]

@@ -11,7 +11,9 @@ import pytest
 from taichi_bearing.bearing import palmgren_stiffness
 from taichi_bearing.case import load_case
 from taichi_bearing.quasistatic import (
+    Spall,
     _corner_drop,
+    analytical_roller_forces,
     contact_model,
     load_distribution_factor,
     solve_case,
@@ -132,6 +134,23 @@ def test_palmgren_k_is_what_the_model_uses(case, cm):
 
 
 # ---------------------------------------------------------------------------- the spall
+
+
+def test_spall_of_zero_depth_is_the_healthy_raceway(cm):
+    angles = np.linspace(-0.1, 0.1, 301)
+    flat = Spall(entry=-0.04, exit=0.04, depth=0.0)
+    with_flat = solve_load_distribution(cm, 20, 5e4, angles, flat)
+    healthy = solve_load_distribution(cm, 20, 5e4, angles)
+    np.testing.assert_allclose(with_flat.outer_force, healthy.outer_force, rtol=1e-12, atol=1e-6)
+
+
+def test_analytical_roller_forces_at_the_run_start(case):
+    forces = analytical_roller_forces(case)
+    # roller 0 starts at -5 deg, 2.44 deg before the spall's entry edge: fully supported
+    assert forces.shape == (20,)
+    dist = solve_case(case, case.run.first_roller_angle, healthy=True)
+    np.testing.assert_allclose(forces, dist.outer_force[0], rtol=1e-9)
+    assert forces.sum() > case.operating.load  # components: the sum of magnitudes is more
 
 
 def test_support_fraction():
