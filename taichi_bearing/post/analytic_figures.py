@@ -152,7 +152,7 @@ def plot_defect_passage(
         color="k",
         lw=0.8,
         ls=":",
-        label="sum of y over rollers - W",
+        label=f"sum of y over rollers - W (largest |.|: {patch.balance_error().max():.0e} W)",
     )
     ax2.set_ylabel("component, kN")
     ax2.set_xlabel("cage angle (angle of roller 0 from 12 o'clock), deg")
