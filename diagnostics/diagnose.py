@@ -54,6 +54,8 @@ __all__ = [
     "Diagnosis",
     "diagnose",
     "prewhiten",
+    "kurtogram_band",
+    "check_bearing_inputs",
     "normalised_envelope_spectrum",
 ]
 
@@ -377,24 +379,38 @@ def _family_fundamentals(freqs: FaultFrequencies) -> dict[str, tuple[float, floa
     }
 
 
-def _kurtogram_band(kg, fs: float, bw_min: float) -> tuple[tuple[float, float], float] | None:
-    """Best band of a kurtogram among the bands at least ``bw_min`` wide."""
-    if kg.bw >= bw_min:
-        lo, hi = kg.fc - kg.bw / 2.0, kg.fc + kg.bw / 2.0
-        return (float(max(lo, 0.0)), float(min(hi, fs / 2.0))), float(kg.kurtosis)
+def kurtogram_band(
+    kg, min_bandwidth_hz: float = 0.0, min_low_hz: float = 0.0
+) -> tuple[tuple[float, float], float] | None:
+    """Best band of a fast kurtogram among the bands that meet two constraints.
+
+    Parameters
+    ----------
+    kg : diagnostics.kurtosis.Kurtogram
+        The kurtogram.
+    min_bandwidth_hz : float
+        Narrowest band accepted.
+    min_low_hz : float
+        Lowest lower edge accepted.
+
+    Returns
+    -------
+    ((f_lo, f_hi), kurtosis) or None
+        None when no band qualifies.
+    """
+    fs = float(kg.fs)
     levels = np.asarray(kg.levels, dtype=float)
-    K = np.asarray(kg.K, dtype=float)
     bws = fs / 2.0 / 2.0**levels
-    rows = np.flatnonzero(bws >= bw_min)
-    if rows.size == 0:
+    centres = np.asarray(kg.freqs, dtype=float)
+    # Bands tile 0..fs/2 at every level; a column belongs to the band holding its centre.
+    lows = np.floor(centres[None, :] / bws[:, None]) * bws[:, None]
+    ok = (bws[:, None] >= min_bandwidth_hz) & (lows >= min_low_hz - 1e-9 * fs)
+    if not ok.any():
         return None
-    sub = K[rows]
-    r, c = np.unravel_index(int(np.argmax(sub)), sub.shape)
-    bw = bws[rows[r]]
-    # Columns tile 0..fs/2; the band is the tile of width bw holding column c.
-    fc_col = float(np.asarray(kg.freqs)[c])
-    lo = math.floor(fc_col / bw) * bw
-    return (float(lo), float(min(lo + bw, fs / 2.0))), float(sub[r, c])
+    masked = np.where(ok, np.asarray(kg.K, dtype=float), -np.inf)
+    r, c = np.unravel_index(int(np.argmax(masked)), masked.shape)
+    lo = float(lows[r, c])
+    return (lo, float(min(lo + bws[r], fs / 2.0))), float(masked[r, c])
 
 
 def _demod_band(band: tuple[float, float], fs: float) -> tuple[float, float] | None:
@@ -487,7 +503,7 @@ def diagnose(
     if use_kurtogram and levels >= 1:
         bw_min = 2.0 * f_high / _USABLE_FRACTION
         kg_white = kurtogram(white, fs, nlevel=levels)
-        found = _kurtogram_band(kg_white, fs, bw_min)
+        found = kurtogram_band(kg_white, min_bandwidth_hz=bw_min)
         if found is not None:
             candidates.append(("kurtogram", found[0], found[1]))
 
