@@ -792,10 +792,12 @@ def _check_physics(case: Case, src: str | None) -> None:
     if d.length <= 0.0 or d.depth <= 0.0:
         key = "defect.length_mm" if d.length <= 0.0 else "defect.depth_mm"
         raise CaseError(key, "must be positive for a defect (use race: none for no defect)", src)
-    if d.depth >= ring:
+    # a spall through half the ring or more is a cracked ring, not a line spall (and the
+    # mesher needs solid ring below the notch)
+    if d.depth >= 0.5 * ring:
         raise CaseError(
             "defect.depth_mm",
-            f"defect ({d.depth * mm:g} mm) is as deep as or deeper than the {d.race} ring "
+            f"defect ({d.depth * mm:g} mm) must be shallower than half the {d.race} ring "
             f"({ring * mm:g} mm thick)",
             src,
         )
