@@ -176,7 +176,8 @@ def main(args: argparse.Namespace) -> int:
     top = summary["most_loaded_roller"]
     print(
         f"case '{case.name}': W = {case.operating.load / 1e3:g} kN, "
-        f"Q_max Z / W = {summary['stribeck_ratio_qmax_z_over_w']:.4f} (Stribeck: 4.08)"
+        f"Q_max Z / W = {summary['stribeck_ratio_qmax_z_over_w']:.4f} "
+        "(Stribeck, zero clearance: 4.08)"
     )
     print(
         f"most loaded roller: Q = {top['outer_force_N']:.1f} N, "
