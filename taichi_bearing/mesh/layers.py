@@ -90,16 +90,21 @@ def coarsening_rows(
     return ratios
 
 
-def notch_depths(far: np.ndarray, depth: float, n_thin: int) -> np.ndarray:
-    """Level depths at a notch: ``n_thin`` equal layers down to the notch ``depth``, then
-    the far-field levels ``far`` (cumulative depths, level 0 = 0).
+def notch_depths(far: np.ndarray, depth: float) -> tuple[np.ndarray, int]:
+    """Level depths at a notch, and the number of layers across the notch depth.
 
-    ``n_thin`` is at least ``depth / first layer``, so ``far[n_thin] >= depth`` and the
-    layer under the notch floor is never thinner than the far-field first layer.
+    The notch takes ``n_thin`` equal layers, ``n_thin`` being the first far-field level at
+    or below the notch depth; from level ``n_thin + 1`` on the far-field levels ``far``
+    (cumulative depths, level 0 = 0) are kept. So a shallow notch is one thin layer, a deep
+    one several, and the layer under the floor is never thinner than the ones around it.
     """
     far = np.asarray(far, dtype=float)
-    if len(far) < n_thin + 2 or far[n_thin + 1] <= depth:
-        raise ValueError("the layer stack is too shallow for the notch depth")
+    below = np.flatnonzero(far >= depth * (1 - 1e-12))
+    n_thin = int(below[0]) if len(below) else len(far)
+    if n_thin >= len(far) - 1:
+        raise ValueError(
+            f"the notch depth {depth} m reaches the back of the ring's layer stack ({far[-1]} m)"
+        )
     near = far.copy()
     near[: n_thin + 1] = depth * np.arange(n_thin + 1) / n_thin
-    return near
+    return near, n_thin

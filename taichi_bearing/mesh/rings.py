@@ -116,8 +116,7 @@ def ring_mesh(
     near = far
     frozen = 1
     if notch is not None:
-        n_thin = max(1, math.ceil(notch.depth / size - 1e-9))
-        near = notch_depths(far, notch.depth, n_thin)
+        near, n_thin = notch_depths(far, notch.depth)
         frozen = n_thin + 1
     mid = 0.5 * (far[1:] + far[:-1])
     widths = size * (raceway_radius + sign * mid) / raceway_radius
