@@ -1,0 +1,83 @@
+"""Taichi initialisation: explicit arch, f64, offline cache, and a check of what was obtained."""
+
+from __future__ import annotations
+
+import os
+
+import taichi as ti
+
+from taichi_bearing.errors import InputError
+
+__all__ = ["ARCHS", "current_arch", "init_taichi"]
+
+ARCHS = {"cpu": ti.cpu, "cuda": ti.cuda, "vulkan": ti.vulkan}
+
+# (arch name, threads) of the live Taichi runtime started by init_taichi, or None.
+_active: tuple[str, int | None] | None = None
+
+
+def current_arch() -> str | None:
+    """Name of the arch init_taichi started in this process (None before any call)."""
+    return None if _active is None else _active[0]
+
+
+def init_taichi(
+    arch: str = "cpu", threads: int | None = None, cache_dir: str | os.PathLike | None = None
+) -> str:
+    """Start Taichi on an explicit backend with f64 defaults, once per process.
+
+    Parameters
+    ----------
+    arch : {"cpu", "cuda", "vulkan"}
+        Backend. ``ti.gpu`` (auto-pick) is never used: it can crash on GPU-less machines.
+    threads : int, optional
+        CPU threads (``cpu_max_num_threads``); None or 0 means all cores.
+    cache_dir : str or path-like, optional
+        Offline kernel cache; default ``$TAICHI_BEARING_CACHE_DIR`` when set, else Taichi's.
+
+    Returns
+    -------
+    str
+        The arch obtained (equal to ``arch``).
+
+    Raises
+    ------
+    InputError
+        If ``arch`` is unknown or Taichi fell back to another backend (e.g. no GPU).
+
+    Notes
+    -----
+    Calling again with the same arch and threads is a no-op; otherwise Taichi is reset and
+    started again, which discards every field and compiled kernel of the old runtime.
+    """
+    global _active
+    if arch not in ARCHS:
+        raise InputError(f"arch: unknown backend {arch!r}; choose one of {sorted(ARCHS)}")
+    threads = int(threads) if threads else None
+    if _active == (arch, threads):
+        return arch
+    if _active is not None:
+        ti.reset()
+        _active = None
+    kwargs: dict = {
+        "arch": ARCHS[arch],
+        "default_fp": ti.f64,
+        "default_ip": ti.i32,
+        "offline_cache": True,
+        "log_level": ti.WARN,
+    }
+    cache = cache_dir if cache_dir is not None else os.environ.get("TAICHI_BEARING_CACHE_DIR")
+    if cache:
+        kwargs["offline_cache_file_path"] = os.fspath(cache)
+    if arch == "cpu" and threads:
+        kwargs["cpu_max_num_threads"] = threads
+    ti.init(**kwargs)
+    got = ti.lang.impl.current_cfg().arch
+    if got != ARCHS[arch]:
+        ti.reset()
+        raise InputError(
+            f"arch: requested Taichi backend {arch!r} but got {got.name!r} "
+            "(no usable device or driver); rerun with --arch cpu"
+        )
+    _active = (arch, threads)
+    return arch

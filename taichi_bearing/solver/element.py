@@ -1,0 +1,162 @@
+"""Reference-configuration data of the 1-point quadrilateral (numpy, computed once).
+
+The element is the Flanagan-Belytschko uniform-strain quadrilateral: the deformation
+gradient is ``F = sum_I x_I (x) b_I`` with the mean shape-function gradients ``b_I`` over
+the reference element, which is exact for any linear field (patch test). The hourglass
+modes are caught by ``q = sum_I gamma_I x_I`` with the FB vectors
+``gamma_I = (h_I - (h . X_j) b_jI) / 4``, ``h = (1, -1, 1, -1)``, which vanish for every
+linear field; the hourglass force ``f_I = -k gamma_I q`` turns with the body, so it is
+objective, and it derives from the energy ``k |q|^2 / 2``.
+
+The hourglass stiffness ``k = (2/3) E' t A (b . b)`` is the value for which a square
+element carries exactly the bending energy of a plane-strain beam (E' = E / (1 - nu^2)),
+so a few elements through a thickness bend without shear locking.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from taichi_bearing.errors import InputError
+
+__all__ = [
+    "ElementGeometry",
+    "critical_time_steps",
+    "element_geometry",
+    "element_stiffness",
+    "hourglass_stiffness",
+]
+
+_H = np.array([1.0, -1.0, 1.0, -1.0])
+_GAUSS = np.array([-1.0, 1.0]) / np.sqrt(3.0)
+_XI = np.array([-1.0, 1.0, 1.0, -1.0])
+_ETA = np.array([-1.0, -1.0, 1.0, 1.0])
+
+
+class ElementGeometry:
+    """Per-element reference data.
+
+    Attributes
+    ----------
+    b : ndarray (n_elements, 4, 2)
+        Mean shape-function gradients dN_I/dX.
+    gamma : ndarray (n_elements, 4)
+        Flanagan-Belytschko hourglass vectors.
+    area : ndarray (n_elements,)
+        Reference areas, m^2.
+    shape_integrals : ndarray (n_elements, 4)
+        Integrals of N_I over each element (row sums of the consistent mass / rho).
+    """
+
+    def __init__(self, b, gamma, area, shape_integrals) -> None:
+        self.b = b
+        self.gamma = gamma
+        self.area = area
+        self.shape_integrals = shape_integrals
+
+
+def element_geometry(nodes: np.ndarray, elements: np.ndarray) -> ElementGeometry:
+    """Reference-element data of a quadrilateral mesh.
+
+    Parameters
+    ----------
+    nodes : ndarray (n_nodes, 2)
+    elements : ndarray of int (n_elements, 4), counter-clockwise
+
+    Raises
+    ------
+    InputError
+        If an element has a non-positive area or Jacobian (clockwise or folded).
+    """
+    X = nodes[elements]  # (ne, 4, 2)
+    x, y = X[..., 0], X[..., 1]
+    # Shoelace area; the FB mean gradients are b_I = (y_{I+1} - y_{I-1}, x_{I-1} - x_{I+1})/2A.
+    xn, yn = np.roll(x, -1, axis=1), np.roll(y, -1, axis=1)
+    xp, yp = np.roll(x, 1, axis=1), np.roll(y, 1, axis=1)
+    area = 0.5 * np.sum(x * yn - xn * y, axis=1)
+    # Jacobian at the 4 Gauss points: catches folded (bow-tie) elements that have A > 0.
+    s_int = np.zeros(elements.shape, dtype=float)
+    min_det = np.full(len(elements), np.inf)
+    for xi in _GAUSS:
+        for eta in _GAUSS:
+            n = 0.25 * (1 + _XI * xi) * (1 + _ETA * eta)
+            dn_dxi = 0.25 * _XI * (1 + _ETA * eta)
+            dn_deta = 0.25 * _ETA * (1 + _XI * xi)
+            j11, j12 = x @ dn_dxi, y @ dn_dxi
+            j21, j22 = x @ dn_deta, y @ dn_deta
+            det = j11 * j22 - j12 * j21
+            min_det = np.minimum(min_det, det)
+            s_int += n[None, :] * det[:, None]
+    bad = np.flatnonzero((area <= 0) | (min_det <= 0))
+    if bad.size:
+        raise InputError(
+            f"mesh: element {int(bad[0])} (and {bad.size - 1} more) has a non-positive "
+            "Jacobian; elements must be convex and counter-clockwise"
+        )
+    b = np.empty(X.shape)
+    b[..., 0] = (yn - yp) / (2.0 * area[:, None])
+    b[..., 1] = (xp - xn) / (2.0 * area[:, None])
+    hx = x @ _H
+    hy = y @ _H
+    gamma = 0.25 * (_H[None, :] - hx[:, None] * b[..., 0] - hy[:, None] * b[..., 1])
+    return ElementGeometry(b, gamma, area, s_int)
+
+
+def element_stiffness(
+    geo: ElementGeometry, lam: np.ndarray, mu: np.ndarray, khg: np.ndarray, thickness: float
+) -> np.ndarray:
+    """Small-strain stiffness matrices (n_elements, 8, 8), dofs ordered (x0, y0, x1, ...).
+
+    The tangent of the solver's element at the reference configuration: 1-point
+    uniform-strain part plus the hourglass stiffness ``khg`` (already times thickness).
+    """
+    ne = len(geo.area)
+    B = np.zeros((ne, 3, 8))
+    B[:, 0, 0::2] = geo.b[..., 0]
+    B[:, 1, 1::2] = geo.b[..., 1]
+    B[:, 2, 0::2] = geo.b[..., 1]
+    B[:, 2, 1::2] = geo.b[..., 0]
+    D = np.zeros((ne, 3, 3))
+    D[:, 0, 0] = D[:, 1, 1] = lam + 2 * mu
+    D[:, 0, 1] = D[:, 1, 0] = lam
+    D[:, 2, 2] = mu
+    K = np.einsum("eia,eij,ejb->eab", B, D, B) * (geo.area * thickness)[:, None, None]
+    gg = np.einsum("ei,ej->eij", geo.gamma, geo.gamma) * khg[:, None, None]
+    K[:, 0::2, 0::2] += gg
+    K[:, 1::2, 1::2] += gg
+    return K
+
+
+def critical_time_steps(
+    geo: ElementGeometry,
+    lam: np.ndarray,
+    mu: np.ndarray,
+    rho: np.ndarray,
+    khg: np.ndarray,
+    thickness: float,
+    damping_beta: float = 0.0,
+) -> np.ndarray:
+    """Stable central-difference step of each element, s.
+
+    ``2 / omega_e`` with ``omega_e`` the highest frequency of the element alone with its
+    lumped mass; by the element eigenvalue theorem no mesh frequency exceeds the largest
+    ``omega_e``. For a square of side L this is ``0.707 L / c``, the familiar
+    characteristic length (area / longest diagonal) over the dilatational wave speed.
+    Stiffness-proportional damping ``beta`` lowers the step by
+    ``sqrt(1 + zeta^2) - zeta`` with ``zeta = beta omega_e / 2``.
+    """
+    K = element_stiffness(geo, lam, mu, khg, thickness)
+    m = np.repeat(geo.shape_integrals * (rho * thickness)[:, None], 2, axis=1)  # (ne, 8)
+    s = 1.0 / np.sqrt(m)
+    A = K * s[:, :, None] * s[:, None, :]
+    omega = np.sqrt(np.maximum(np.linalg.eigvalsh(A)[:, -1], 0.0))
+    zeta = 0.5 * damping_beta * omega
+    return 2.0 / omega * (np.sqrt(1.0 + zeta**2) - zeta)
+
+
+def hourglass_stiffness(
+    geo: ElementGeometry, eprime: np.ndarray, thickness: float, scale: float = 1.0
+) -> np.ndarray:
+    """``k = scale (2/3) E' t A (b . b)``: bending-exact for square elements."""
+    bb = np.sum(geo.b**2, axis=(1, 2))
+    return scale * (2.0 / 3.0) * eprime * thickness * geo.area * bb

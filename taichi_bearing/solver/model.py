@@ -1,0 +1,721 @@
+"""The explicit model: Taichi fields of nodes and elements, and the kernels of one step.
+
+One step (central difference, leapfrog) from time ``t_n``:
+
+1. element loop: ``F``, Green strain, St Venant-Kirchhoff stress, hourglass and
+   stiffness-proportional damping forces -> per-element nodal forces (no atomics);
+2. extra force contributors (contact, next issue) add into ``f_extra``;
+3. dead loads, then the node loop: gather element forces (fixed order, so runs are
+   bit-reproducible on any thread count), ``v^{n+1/2} = v^{n-1/2} + dt a^n``,
+   ``x^{n+1} = x^n + dt v^{n+1/2}``, constraints, work of the non-elastic forces;
+4. sensor sums (averaged later over each output interval).
+
+Without contributors, steps 1-4 are one kernel launch; small meshes can also run many
+steps in one serial kernel (:meth:`Model.advance` chooses).
+"""
+
+# No `from __future__ import annotations`: Taichi reads kernel annotations at definition.
+import math
+from collections.abc import Mapping, Sequence
+from typing import Protocol
+
+import numpy as np
+import taichi as ti
+
+from taichi_bearing.mesh.types import Mesh
+from taichi_bearing.solver.element import (
+    critical_time_steps,
+    element_geometry,
+    hourglass_stiffness,
+)
+from taichi_bearing.solver.loads import (
+    FixedNodes,
+    HeldDirection,
+    NodalForces,
+    PrescribedRotation,
+    RigidVelocity,
+)
+from taichi_bearing.solver.materials import Material, materials_per_element
+
+__all__ = ["ForceContributor", "Model", "StiffnessDamping"]
+
+_FIXED, _HELD, _ROT = 1, 2, 4
+# Below this many elements a block of steps runs as one serial kernel (launch-bound regime).
+SERIAL_MAX_ELEMENTS = 3000
+_CHUNK = 64  # elements or nodes per iteration of a parallel loop
+
+
+class ForceContributor(Protocol):
+    """Something that adds nodal forces each step (e.g. contact).
+
+    ``add_forces(model, t)`` is called after the element forces of step n and before the
+    velocity update; it reads ``model.x`` / ``model.v`` (positions at ``t``, velocities at
+    ``t - dt/2``) and adds forces (N) into ``model.f_extra`` (atomic adds are fine).
+    """
+
+    def add_forces(self, model: "Model", t: float) -> None: ...
+
+
+class StiffnessDamping:
+    """Stiffness-proportional damping ``C = beta K`` with ``beta = 2 zeta / omega``.
+
+    It acts on the strain rate only (Green strain rate, hourglass rate), so rigid-body
+    motion, spin included, is not braked.
+
+    Parameters
+    ----------
+    ratio : float
+        Fraction of critical damping ``zeta`` at ``frequency_hz``.
+    frequency_hz : float
+        Frequency where the ratio holds; higher modes get more, lower modes less.
+    """
+
+    def __init__(self, ratio: float, frequency_hz: float) -> None:
+        if ratio < 0 or not frequency_hz > 0:
+            raise ValueError("damping: ratio must be >= 0 and frequency_hz > 0")
+        self.ratio = float(ratio)
+        self.frequency_hz = float(frequency_hz)
+
+    @property
+    def beta(self) -> float:
+        return 2.0 * self.ratio / (2.0 * math.pi * self.frequency_hz)
+
+
+def _adjacency(elements: np.ndarray, n_nodes: int) -> tuple[np.ndarray, np.ndarray]:
+    """CSR lists of the element-force slots (4 e + I) that act on each node."""
+    slots = np.arange(elements.size, dtype=np.int64)
+    node_of_slot = elements.ravel()
+    order = np.argsort(node_of_slot, kind="stable")
+    ptr = np.zeros(n_nodes + 1, dtype=np.int64)
+    np.cumsum(np.bincount(node_of_slot, minlength=n_nodes), out=ptr[1:])
+    return ptr.astype(np.int32), slots[order].astype(np.int32)
+
+
+def _vec_field(n: int, dim: int = 2, dtype=ti.f64):
+    return ti.Vector.field(dim, dtype, shape=max(n, 1))
+
+
+def _scalar_field(n: int, dtype=ti.f64):
+    return ti.field(dtype, shape=max(n, 1))
+
+
+@ti.data_oriented
+class Model:
+    """A plane-strain explicit model built from a :class:`Mesh`.
+
+    Parameters
+    ----------
+    mesh : Mesh
+        Nodes, elements and parts; ``mesh.sensor_nodes`` are the default sensors.
+    materials : Material or mapping of part name to Material
+    thickness : float
+        Plane-strain thickness, m; masses, forces and energies are for this thickness.
+    constraints : sequence of FixedNodes, HeldDirection, PrescribedRotation
+    loads : sequence of NodalForces
+    initial_velocities : sequence of RigidVelocity
+    damping : StiffnessDamping, optional
+    hourglass_scale : float
+        Multiplies the physical hourglass stiffness (1 = bending-exact for squares).
+    sensors : mapping of str to int, optional
+        Sensor name -> node; default ``mesh.sensor_nodes``.
+    dt_factor : float
+        Time step as a fraction of the smallest element critical step.
+
+    Notes
+    -----
+    Taichi must be initialised first (:func:`taichi_bearing.solver.backend.init_taichi`).
+    ``contributors`` is a list of :class:`ForceContributor` objects called every step.
+    """
+
+    def __init__(
+        self,
+        mesh: Mesh,
+        materials: Material | Mapping[str, Material],
+        *,
+        thickness: float = 1.0,
+        constraints: Sequence[FixedNodes | HeldDirection | PrescribedRotation] = (),
+        loads: Sequence[NodalForces] = (),
+        initial_velocities: Sequence[RigidVelocity] = (),
+        damping: StiffnessDamping | None = None,
+        hourglass_scale: float = 1.0,
+        sensors: Mapping[str, int] | None = None,
+        dt_factor: float = 0.9,
+    ) -> None:
+        if not thickness > 0:
+            raise ValueError(f"thickness must be positive, got {thickness!r}")
+        self.mesh = mesh
+        self.thickness = float(thickness)
+        self.n_nodes = nn = mesh.n_nodes
+        self.n_elements = ne = mesh.n_elements
+        elements = np.asarray(mesh.elements, dtype=np.int64)
+        geo = element_geometry(np.asarray(mesh.nodes, dtype=float), elements)
+        lam, mu, rho, eprime = materials_per_element(mesh, materials)
+        khg = hourglass_stiffness(geo, eprime, self.thickness, hourglass_scale)
+        self.beta = damping.beta if damping is not None else 0.0
+        self.damping = damping
+        self.element_dt = critical_time_steps(geo, lam, mu, rho, khg, self.thickness, self.beta)
+        self.dt_stable = float(dt_factor * self.element_dt.min())
+        self.dt = self.dt_stable
+        mass = np.zeros(nn)
+        np.add.at(mass, elements, geo.shape_integrals * (rho * self.thickness)[:, None])
+        if np.any(mass <= 0):
+            raise ValueError(f"node {int(np.argmin(mass))} belongs to no element (zero mass)")
+        self.mass_np = mass
+        self.area_np = geo.area
+
+        # ---- nodes
+        self.X = _vec_field(nn)
+        self.x = _vec_field(nn)
+        self.v = _vec_field(nn)
+        self.a = _vec_field(nn)
+        self.f_extra = _vec_field(nn)
+        self.f_other = _vec_field(nn)  # non-elastic force of the last step (for work)
+        self.v_int = _vec_field(nn)  # velocity at the last recorded integer step
+        self.mass = _scalar_field(nn)
+        self.work = _scalar_field(nn)  # external work done on each node so far
+        self.bc = _scalar_field(nn, ti.i32)
+        self.held_dir = _vec_field(nn)
+        self.rot_group = _scalar_field(nn, ti.i32)
+        ptr, adj = _adjacency(elements, nn)
+        self.adj_ptr = _scalar_field(nn + 1, ti.i32)
+        self.adj = _scalar_field(adj.size, ti.i32)
+        # ---- elements
+        self.conn = _vec_field(ne, 4, ti.i32)
+        self.bx = _vec_field(ne, 4)
+        self.by = _vec_field(ne, 4)
+        self.gam = _vec_field(ne, 4)
+        self.at = _scalar_field(ne)  # reference area x thickness
+        self.khg = _scalar_field(ne)
+        self.lam = _scalar_field(ne)
+        self.mu = _scalar_field(ne)
+        self.fe = _vec_field(4 * ne)  # element nodal forces, slot 4 e + I
+        self.e_int = _scalar_field(ne)  # strain energy at the last recorded step
+        self.e_hg = _scalar_field(ne)  # hourglass energy at the last recorded step
+        self.e_damp = _scalar_field(ne)  # energy dissipated by damping so far
+        self.jac = _scalar_field(ne)  # det F at the last recorded step
+        self.von_mises = _scalar_field(ne)
+        self.bad_element = ti.field(ti.i32, shape=())
+        self.sums = ti.field(ti.f64, shape=6)
+
+        self.X.from_numpy(np.asarray(mesh.nodes, dtype=float))
+        self.x.from_numpy(np.asarray(mesh.nodes, dtype=float))
+        self.mass.from_numpy(mass)
+        self.adj_ptr.from_numpy(ptr)
+        self.adj.from_numpy(adj)
+        self.conn.from_numpy(elements.astype(np.int32))
+        self.bx.from_numpy(geo.b[..., 0].copy())
+        self.by.from_numpy(geo.b[..., 1].copy())
+        self.gam.from_numpy(geo.gamma)
+        self.at.from_numpy(geo.area * self.thickness)
+        self.khg.from_numpy(khg)
+        self.lam.from_numpy(lam)
+        self.mu.from_numpy(mu)
+        self.bad_element[None] = ne
+
+        self._setup_constraints(constraints)
+        self._setup_loads(loads)
+        self._setup_sensors(mesh.sensor_nodes if sensors is None else sensors)
+        self.initial_velocities = list(initial_velocities)
+        self.contributors: list[ForceContributor] = []
+        self.step_count = 0
+        self.set_initial_velocities()
+
+    # ------------------------------------------------------------------ setup helpers
+
+    def _setup_constraints(self, constraints) -> None:
+        nn = self.n_nodes
+        bc = np.zeros(nn, dtype=np.int32)
+        held = np.zeros((nn, 2))
+        rgroup = np.full(nn, -1, dtype=np.int32)
+        rots: list[PrescribedRotation] = []
+        for c in constraints:
+            ids = np.asarray(c.nodes)
+            if ids.min() < 0 or ids.max() >= nn:
+                raise ValueError(f"{type(c).__name__}: node index out of range 0..{nn - 1}")
+            if isinstance(c, FixedNodes):
+                bc[ids] |= _FIXED
+            elif isinstance(c, HeldDirection):
+                if np.any(bc[ids] & _HELD):
+                    raise ValueError("HeldDirection: a node can hold only one direction")
+                bc[ids] |= _HELD
+                held[ids] = c.direction
+            elif isinstance(c, PrescribedRotation):
+                if np.any(rgroup[ids] >= 0):
+                    raise ValueError("PrescribedRotation: a node is in two rotation sets")
+                bc[ids] |= _ROT
+                rgroup[ids] = len(rots)
+                rots.append(c)
+            else:
+                raise TypeError(f"unknown constraint {type(c).__name__}")
+        self.rotations = rots
+        self.bc.from_numpy(bc)
+        self.held_dir.from_numpy(held)
+        self.rot_group.from_numpy(rgroup)
+        nr = len(rots)
+        self.n_rot = nr
+        self.rot_center = _vec_field(nr)
+        self.rot_par = _vec_field(nr, 3)  # omega_start, omega, ramp_time
+        if nr:
+            self.rot_center.from_numpy(np.array([r.center for r in rots], dtype=float))
+            self.rot_par.from_numpy(
+                np.array([[r.omega_start, r.omega, r.ramp_time] for r in rots], dtype=float)
+            )
+
+    def _setup_loads(self, loads: Sequence[NodalForces]) -> None:
+        nodes, forces, ramps = [], [], []
+        for load in loads:
+            if len(load.nodes) and (load.nodes.min() < 0 or load.nodes.max() >= self.n_nodes):
+                raise ValueError("NodalForces: node index out of range")
+            nodes.append(load.nodes)
+            forces.append(load.forces)
+            ramps.append(np.full(len(load.nodes), load.ramp_time))
+        self.loads = list(loads)
+        self.n_load = nl = int(sum(len(n) for n in nodes))
+        self.load_node = _scalar_field(nl, ti.i32)
+        self.load_force = _vec_field(nl)
+        self.load_ramp = _scalar_field(nl)
+        if nl:
+            self.load_node.from_numpy(np.concatenate(nodes).astype(np.int32))
+            self.load_force.from_numpy(np.concatenate(forces))
+            self.load_ramp.from_numpy(np.concatenate(ramps))
+
+    def _setup_sensors(self, sensors: Mapping[str, int]) -> None:
+        self.sensor_names = list(sensors)
+        ids = np.array([int(sensors[k]) for k in self.sensor_names], dtype=np.int32)
+        if ids.size and (ids.min() < 0 or ids.max() >= self.n_nodes):
+            raise ValueError("sensor node index out of range")
+        self.n_sensor = ns = len(ids)
+        self.sensor_node = _scalar_field(ns, ti.i32)
+        self.sensor_sum = _vec_field(ns, 6)  # ux, uy, vx, vy, ax, ay
+        if ns:
+            self.sensor_node.from_numpy(ids)
+
+    def part_nodes(self, part: str | int) -> np.ndarray:
+        """Indices of the nodes of one part."""
+        pid = self.mesh.part_id(part) if isinstance(part, str) else int(part)
+        return np.unique(self.mesh.elements[self.mesh.element_part == pid])
+
+    def set_initial_velocities(self) -> None:
+        """Velocities from the :class:`RigidVelocity` list (zero elsewhere); restarts the
+        leapfrog (the next step is a half step) and the work/damping accumulators."""
+        X = np.asarray(self.mesh.nodes, dtype=float)
+        v = np.zeros((self.n_nodes, 2))
+        for rv in self.initial_velocities:
+            ids = self.part_nodes(rv.part)
+            v[ids] = rigid_velocity_field(X[ids], rv.omega, rv.center, rv.velocity)
+        self.v.from_numpy(v)
+        self.restart_accounting()
+
+    def restart_accounting(self) -> None:
+        """Zero the work/damping accumulators and start the leapfrog with a half step."""
+        self.work.fill(0.0)
+        self.e_damp.fill(0.0)
+        self.f_other.fill(0.0)
+        self.f_extra.fill(0.0)
+        self.sensor_sum.fill(0.0)
+        self.first = True
+        self.step_count = 0
+
+    def set_dt(self, dt: float) -> None:
+        """Use a time step not above the stable one (e.g. to fit the output interval)."""
+        if not 0 < dt <= self.dt_stable * (1 + 1e-12):
+            raise ValueError(f"dt {dt!r} must lie in (0, {self.dt_stable!r}] (stable step)")
+        self.dt = float(dt)
+
+    @property
+    def time(self) -> float:
+        """Time of the current state, s (``step_count * dt``)."""
+        return self.step_count * self.dt
+
+    # ------------------------------------------------------------------ Taichi functions
+
+    @ti.func
+    def _rot_angle(self, g, t):
+        p = self.rot_par[g]
+        w0, w1, tr = p[0], p[1], p[2]
+        th = 0.0
+        if t < tr:
+            th = w0 * t + 0.5 * (w1 - w0) * t * t / tr
+        else:
+            th = 0.5 * (w0 + w1) * tr + w1 * (t - tr)
+        return th
+
+    @ti.func
+    def _element(self, e, dt, beta, rec):
+        c = self.conn[e]
+        bx, by, g = self.bx[e], self.by[e], self.gam[e]
+        F = ti.Matrix.zero(ti.f64, 2, 2)
+        Fd = ti.Matrix.zero(ti.f64, 2, 2)
+        q = ti.Vector.zero(ti.f64, 2)
+        qd = ti.Vector.zero(ti.f64, 2)
+        for k in ti.static(range(4)):
+            xk = self.x[c[k]]
+            vk = self.v[c[k]]
+            bk = ti.Vector([bx[k], by[k]])
+            F += xk.outer_product(bk)
+            Fd += vk.outer_product(bk)
+            q += g[k] * xk
+            qd += g[k] * vk
+        lam, mu = self.lam[e], self.mu[e]
+        at, k_hg = self.at[e], self.khg[e]
+        E = 0.5 * (F.transpose() @ F - ti.Matrix.identity(ti.f64, 2))
+        tr_e = E[0, 0] + E[1, 1]
+        S = lam * tr_e * ti.Matrix.identity(ti.f64, 2) + 2.0 * mu * E
+        fq = -k_hg * q
+        if beta > 0.0:
+            # Green strain rate: zero for any rigid motion, so spin is not damped.
+            Ed = 0.5 * (F.transpose() @ Fd + Fd.transpose() @ F)
+            tr_d = Ed[0, 0] + Ed[1, 1]
+            S += beta * (lam * tr_d * ti.Matrix.identity(ti.f64, 2) + 2.0 * mu * Ed)
+            fq -= beta * k_hg * qd
+            power = beta * (at * (lam * tr_d * tr_d + 2.0 * mu * (Ed * Ed).sum()))
+            self.e_damp[e] += dt * (power + beta * k_hg * qd.dot(qd))
+        P = F @ S
+        for k in ti.static(range(4)):
+            self.fe[4 * e + k] = -at * (P @ ti.Vector([bx[k], by[k]])) + g[k] * fq
+        J = F.determinant()
+        if not J > 0.0:
+            ti.atomic_min(self.bad_element[None], e)
+        if rec != 0:
+            self.e_int[e] = at * (0.5 * lam * tr_e * tr_e + mu * (E * E).sum())
+            self.e_hg[e] = 0.5 * k_hg * q.dot(q)
+            self.jac[e] = J
+
+    @ti.func
+    def _apply_loads(self, t_load):
+        for k in range(self.n_load):
+            tr = self.load_ramp[k]
+            amp = 1.0
+            if tr > 0.0 and t_load < tr:
+                amp = t_load / tr
+            self.f_extra[self.load_node[k]] += amp * self.load_force[k]
+
+    @ti.func
+    def _node(self, i, t_rot, dt, dt_v, first, c_mass, rec):
+        f_int = ti.Vector.zero(ti.f64, 2)
+        for s in range(self.adj_ptr[i], self.adj_ptr[i + 1]):
+            f_int += self.fe[self.adj[s]]
+        f = f_int + self.f_extra[i]
+        self.f_extra[i] = ti.Vector.zero(ti.f64, 2)
+        m = self.mass[i]
+        vo = self.v[i]
+        xo = self.x[i]
+        vn = vo + dt_v * f / m
+        if c_mass > 0.0:  # dynamic relaxation: viscous mass damping
+            vn = ((1.0 - 0.5 * c_mass * dt_v) * vo + dt_v * f / m) / (1.0 + 0.5 * c_mass * dt_v)
+        flag = self.bc[i]
+        if flag & _HELD:
+            d = self.held_dir[i]
+            vn -= vn.dot(d) * d
+        xn = xo + dt * vn
+        if flag & _ROT:
+            g = self.rot_group[i]
+            th = self._rot_angle(g, t_rot)
+            cen = self.rot_center[g]
+            r = self.X[i] - cen
+            cs, sn = ti.cos(th), ti.sin(th)
+            xn = cen + ti.Vector([cs * r[0] - sn * r[1], sn * r[0] + cs * r[1]])
+            vn = (xn - xo) / dt
+        if flag & _FIXED:
+            xn = self.X[i]
+            vn = ti.Vector.zero(ti.f64, 2)
+        an = (vn - vo) / dt_v
+        fo = m * an - f_int
+        if first == 0:
+            # Trapezoidal work over [t_{n-1}, t_n]: x^n - x^{n-1} = dt v^{n-1/2}.
+            self.work[i] += 0.5 * dt * vo.dot(self.f_other[i] + fo)
+        self.f_other[i] = fo
+        if rec != 0:
+            vi = vo
+            if first == 0:
+                vi = 0.5 * (vo + vn)
+            self.v_int[i] = vi
+        self.x[i] = xn
+        self.v[i] = vn
+        self.a[i] = an
+
+    @ti.func
+    def _sensor(self, s, dt, dt_v, first):
+        i = self.sensor_node[s]
+        vn = self.v[i]
+        an = self.a[i]
+        vo = vn - dt_v * an
+        vi = vo
+        if first == 0:
+            vi = 0.5 * (vo + vn)
+        u = self.x[i] - dt * vn - self.X[i]
+        self.sensor_sum[s] += ti.Vector([u[0], u[1], vi[0], vi[1], an[0], an[1]])
+
+    @ti.func
+    def _element_loop(self, dt, beta, rec):
+        # Chunks of elements per parallel iteration: the per-iteration cost of a Taichi
+        # CPU parallel loop is otherwise comparable to one element's work.
+        for blk in range((self.n_elements + _CHUNK - 1) // _CHUNK):
+            for e in range(blk * _CHUNK, ti.min((blk + 1) * _CHUNK, self.n_elements)):
+                self._element(e, dt, beta, rec)
+
+    @ti.func
+    def _node_loops(self, t_load, t_rot, dt, dt_v, first, c_mass, rec):
+        # Inlined at kernel top level, so each loop is its own parallel task.
+        ti.loop_config(serialize=True)  # loads: few entries, fixed order (reproducible)
+        for _ in range(1):
+            self._apply_loads(t_load)
+        for blk in range((self.n_nodes + _CHUNK - 1) // _CHUNK):
+            for i in range(blk * _CHUNK, ti.min((blk + 1) * _CHUNK, self.n_nodes)):
+                self._node(i, t_rot, dt, dt_v, first, c_mass, rec)
+        for s in range(self.n_sensor):
+            self._sensor(s, dt, dt_v, first)
+
+    # ------------------------------------------------------------------ kernels
+
+    @ti.kernel
+    def _k_elements(self, dt: ti.f64, beta: ti.f64, rec: ti.i32):
+        self._element_loop(dt, beta, rec)
+
+    @ti.kernel
+    def _k_nodes(
+        self,
+        t_load: ti.f64,
+        t_rot: ti.f64,
+        dt: ti.f64,
+        dt_v: ti.f64,
+        first: ti.i32,
+        c_mass: ti.f64,
+        rec: ti.i32,
+    ):
+        self._node_loops(t_load, t_rot, dt, dt_v, first, c_mass, rec)
+
+    @ti.kernel
+    def _k_step(
+        self,
+        t_load: ti.f64,
+        t_rot: ti.f64,
+        dt: ti.f64,
+        dt_v: ti.f64,
+        first: ti.i32,
+        c_mass: ti.f64,
+        rec: ti.i32,
+        beta: ti.f64,
+    ):
+        self._element_loop(dt, beta, rec)
+        self._node_loops(t_load, t_rot, dt, dt_v, first, c_mass, rec)
+
+    @ti.kernel
+    def _k_steps_serial(
+        self,
+        n: ti.i32,
+        step0: ti.i32,
+        dt: ti.f64,
+        first0: ti.i32,
+        c_mass: ti.f64,
+        rec_last: ti.i32,
+        beta: ti.f64,
+        relax: ti.i32,
+    ):
+        ti.loop_config(serialize=True)
+        for k in range(n):
+            t = (step0 + k) * dt
+            first = 0
+            dt_v = dt
+            if first0 != 0 and k == 0:
+                first = 1
+                dt_v = 0.5 * dt
+            rec = 0
+            if rec_last != 0 and k == n - 1:
+                rec = 1
+            t_load = t
+            t_rot = t + dt
+            if relax != 0:
+                t_load = 1e300
+                t_rot = 0.0
+            for e in range(self.n_elements):
+                self._element(e, dt, beta, rec)
+            self._apply_loads(t_load)
+            for i in range(self.n_nodes):
+                self._node(i, t_rot, dt, dt_v, first, c_mass, rec)
+            for s in range(self.n_sensor):
+                self._sensor(s, dt, dt_v, first)
+
+    @ti.kernel
+    def _k_measure(self):
+        for j in range(6):
+            self.sums[j] = 0.0
+        for i in range(self.n_nodes):
+            m = self.mass[i]
+            u = self.x[i] - self.X[i]
+            self.sums[0] += 0.5 * m * self.v_int[i].dot(self.v_int[i])
+            self.sums[4] += self.work[i]
+            self.sums[5] += m * u.dot(u)
+        for e in range(self.n_elements):
+            self.sums[1] += self.e_int[e]
+            self.sums[2] += self.e_hg[e]
+            self.sums[3] += self.e_damp[e]
+
+    @ti.kernel
+    def _k_von_mises(self):
+        for e in range(self.n_elements):
+            c = self.conn[e]
+            F = ti.Matrix.zero(ti.f64, 2, 2)
+            for k in ti.static(range(4)):
+                F += self.x[c[k]].outer_product(ti.Vector([self.bx[e][k], self.by[e][k]]))
+            lam, mu = self.lam[e], self.mu[e]
+            E = 0.5 * (F.transpose() @ F - ti.Matrix.identity(ti.f64, 2))
+            tr_e = E[0, 0] + E[1, 1]
+            S = lam * tr_e * ti.Matrix.identity(ti.f64, 2) + 2.0 * mu * E
+            J = F.determinant()
+            sig = F @ S @ F.transpose() / J
+            szz = lam * tr_e / J  # plane strain: E_zz = 0, F_zz = 1
+            sxx, syy, sxy = sig[0, 0], sig[1, 1], sig[0, 1]
+            self.von_mises[e] = ti.sqrt(
+                0.5 * ((sxx - syy) ** 2 + (syy - szz) ** 2 + (szz - sxx) ** 2) + 3.0 * sxy * sxy
+            )
+
+    # ------------------------------------------------------------------ stepping
+
+    def advance(
+        self,
+        n: int,
+        record_last: bool = False,
+        serial: bool | None = None,
+        relax_damping: float | None = None,
+    ) -> None:
+        """Take ``n`` steps.
+
+        Parameters
+        ----------
+        n : int
+            Number of steps.
+        record_last : bool
+            Store energies, ``v_int`` and Jacobians of the last step for :meth:`energies`.
+        serial : bool, optional
+            Run all ``n`` steps in one serial kernel (default: when the mesh is small and
+            there are no contributors).
+        relax_damping : float, optional
+            Dynamic relaxation: mass-damping coefficient c (1/s); loads at full value,
+            prescribed rotations held at angle 0, time not advanced.
+        """
+        if n <= 0:
+            return
+        relax = relax_damping is not None
+        c_mass = float(relax_damping) if relax else 0.0
+        if serial is None:
+            serial = not self.contributors and self.n_elements <= SERIAL_MAX_ELEMENTS
+        if serial and self.contributors:
+            raise ValueError("serial stepping cannot call force contributors")
+        dt, beta = self.dt, self.beta
+        if serial:
+            self._k_steps_serial(
+                n,
+                self.step_count,
+                dt,
+                int(self.first),
+                c_mass,
+                int(record_last),
+                beta,
+                int(relax),
+            )
+            self.first = False
+            if not relax:
+                self.step_count += n
+            return
+        step = self._k_step if not self.contributors else None
+        for k in range(n):
+            t = self.step_count * dt
+            first = int(self.first)
+            dt_v = 0.5 * dt if first else dt
+            rec = int(record_last and k == n - 1)
+            t_load, t_rot = (1e300, 0.0) if relax else (t, t + dt)
+            if step is not None:
+                step(t_load, t_rot, dt, dt_v, first, c_mass, rec, beta)
+            else:
+                self._k_elements(dt, beta, rec)
+                for c in self.contributors:
+                    c.add_forces(self, t)
+                self._k_nodes(t_load, t_rot, dt, dt_v, first, c_mass, rec)
+            self.first = False
+            if not relax:
+                self.step_count += 1
+
+    # ------------------------------------------------------------------ read-out
+
+    def energies(self) -> dict[str, float]:
+        """Energies at the last step run with ``record_last`` (J, for the thickness):
+        kinetic, internal (strain), hourglass, damping (dissipated), external_work (done by
+        loads, constraints and contributors), and ``mass_u2`` = sum m |u|^2."""
+        self._k_measure()
+        s = self.sums.to_numpy()
+        return {
+            "kinetic": float(s[0]),
+            "internal": float(s[1]),
+            "hourglass": float(s[2]),
+            "damping": float(s[3]),
+            "external_work": float(s[4]),
+            "mass_u2": float(s[5]),
+        }
+
+    def take_sensor_means(self, n_steps: int) -> np.ndarray:
+        """Mean (ux, uy, vx, vy, ax, ay) of each sensor over the last ``n_steps`` steps
+        (shape (n_sensors, 6)), and zero the sums."""
+        if self.n_sensor == 0:
+            return np.zeros((0, 6))
+        s = self.sensor_sum.to_numpy()[: self.n_sensor] / max(n_steps, 1)
+        self.sensor_sum.fill(0.0)
+        return s
+
+    def von_mises_stress(self) -> np.ndarray:
+        """Cauchy von Mises stress of each element at the current positions, Pa."""
+        self._k_von_mises()
+        return self.von_mises.to_numpy()[: self.n_elements]
+
+    def bad_element_index(self) -> int | None:
+        """First element found with det F <= 0 (or NaN) since the last reset, else None."""
+        e = int(self.bad_element[None])
+        return None if e >= self.n_elements else e
+
+    def positions(self) -> np.ndarray:
+        return self.x.to_numpy()[: self.n_nodes]
+
+    def velocities(self) -> np.ndarray:
+        return self.v.to_numpy()[: self.n_nodes]
+
+    def displacements(self) -> np.ndarray:
+        return self.positions() - np.asarray(self.mesh.nodes, dtype=float)
+
+    def set_state(self, x: np.ndarray | None = None, v: np.ndarray | None = None) -> None:
+        """Overwrite positions and/or velocities (shape (n_nodes, 2))."""
+        if x is not None:
+            self.x.from_numpy(np.ascontiguousarray(x, dtype=float))
+        if v is not None:
+            self.v.from_numpy(np.ascontiguousarray(v, dtype=float))
+
+    # ------------------------------------------------------------------ checkpoint state
+
+    _STATE_FIELDS = ("x", "v", "a", "f_other", "work", "e_damp", "sensor_sum", "v_int")
+
+    def state_arrays(self) -> dict[str, np.ndarray]:
+        """Everything needed to continue bit for bit (see :meth:`load_state_arrays`)."""
+        out = {name: getattr(self, name).to_numpy() for name in self._STATE_FIELDS}
+        out["step_count"] = np.int64(self.step_count)
+        out["first"] = np.int64(self.first)
+        out["dt"] = np.float64(self.dt)
+        return out
+
+    def load_state_arrays(self, arrays: Mapping[str, np.ndarray]) -> None:
+        """Restore a state from :meth:`state_arrays`."""
+        for name in self._STATE_FIELDS:
+            field = getattr(self, name)
+            a = np.asarray(arrays[name])
+            if a.shape != field.to_numpy().shape:
+                raise ValueError(f"checkpoint array {name!r} has shape {a.shape}, model differs")
+            field.from_numpy(a)
+        self.step_count = int(arrays["step_count"])
+        self.first = bool(arrays["first"])
+        self.dt = float(arrays["dt"])
+
+
+def rigid_velocity_field(
+    nodes: np.ndarray, omega: float, center=(0.0, 0.0), velocity=(0.0, 0.0)
+) -> np.ndarray:
+    """Velocities ``velocity + omega x (X - center)`` of points ``nodes`` (n, 2)."""
+    r = nodes - np.asarray(center, dtype=float)
+    return np.asarray(velocity, dtype=float) + omega * np.stack([-r[:, 1], r[:, 0]], axis=1)
