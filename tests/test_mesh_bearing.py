@@ -345,3 +345,34 @@ def test_default_mesh_meets_the_budget(default_case_path):
     roller = m.info["polygon_edges"]["roller0"]
     assert roller == 2 * round(math.pi * spec.roller_diameter / (2 * spec.surface_size))
     assert set(m.sensor_nodes) == {"adapter_top", "outer_ring_top"}
+
+
+def test_clearance_opens_a_gap_on_both_raceways():
+    c = 0.0004
+    spec = coarse(n_rollers=8, clearance=c)
+    m = build_bearing_mesh(spec)
+    r_out = np.hypot(*m.nodes[m.surfaces["inner_raceway"][:, 0]].T)
+    assert np.allclose(r_out, spec.pitch_radius - spec.roller_radius - c / 4, rtol=1e-12)
+    centre = m.info["roller_centres"][0]
+    r_roller = np.hypot(*(m.nodes[m.surfaces["roller0"][:, 0]] - centre).T)
+    assert np.allclose(r_roller, spec.roller_radius, rtol=1e-12)
+    assert np.hypot(*centre) == pytest.approx(spec.pitch_radius, rel=1e-12)
+
+
+@pytest.mark.parametrize("side", [-1, 1])
+def test_spall_edge_next_to_an_adapter_corner_makes_no_sliver(side):
+    """A spall edge 0.2 mm from the angle of an adapter corner: the corner moves onto the
+    edge instead of leaving a sliver element that would shrink the time step."""
+    spec0 = coarse(n_rollers=8)
+    corner_from_top = math.acos(0.5 * spec0.adapter_width / spec0.outer_ring_outer_radius)
+    corner_from_top = math.pi / 2 - corner_from_top  # 28.4 deg
+    r = spec0.outer_raceway_radius
+    centre = side * (corner_from_top + (0.5 * spec0.defect_length + 0.0002) / r)
+    spec = coarse(n_rollers=8, defect_angle=centre)
+    m = build_bearing_mesh(spec)
+    st = mesh_statistics(m)
+    assert st.min_char_length > 0.2 * spec.surface_size
+    assert jacobian_determinants(m.nodes, m.elements).min() > 0
+    width = m.info["adapter"]["width"]
+    assert width != pytest.approx(spec.adapter_width, abs=1e-9)
+    assert abs(width - spec.adapter_width) < spec.surface_size

@@ -43,7 +43,7 @@ def build_bearing_mesh(spec: BearingMeshSpec) -> Mesh:
         spec.inner_raceway_radius,
         spec.inner_ring_thickness,
         False,
-        [TOP] + _notch_breaks(notch_inner),
+        _snap([TOP], notch_inner, spec.inner_raceway_radius, spec.surface_size),
         spec.surface_size,
         spec.max_size,
         spec.growth,
@@ -97,8 +97,18 @@ def _notch(spec: BearingMeshSpec, race: str, radius: float) -> Notch | None:
     return Notch(start=start, span=span, depth=spec.defect_depth)
 
 
-def _notch_breaks(notch: Notch | None) -> list[float]:
-    return [] if notch is None else [notch.start, notch.start + notch.span]
+def _snap(angles: list[float], notch: Notch | None, radius: float, size: float) -> list[float]:
+    """Breakpoint angles with any that lies within half a cell of a spall edge moved onto
+    that edge (the spall edges themselves are added by the ring mesher)."""
+    if notch is None:
+        return list(angles)
+    edges = np.array([notch.start, notch.start + notch.span])
+    out = []
+    for a in angles:
+        gap = np.abs(np.mod(a - edges + math.pi, TWO_PI) - math.pi)
+        k = int(np.argmin(gap))
+        out.append(float(edges[k]) if radius * gap[k] < 0.5 * size else a)
+    return out
 
 
 def _outer_ring_with_adapter(
@@ -106,11 +116,15 @@ def _outer_ring_with_adapter(
 ) -> tuple[RingMesh, np.ndarray]:
     """The outer ring and the adapter merged into one body, and the adapter top's nodes."""
     corners = adapter_corner_angles(spec.outer_ring_outer_radius, spec.adapter_width)
+    # A corner closer to a spall edge than half a cell moves onto it (the adapter is then
+    # that little narrower or wider): two breakpoints that close would make a sliver.
+    corners = _snap(list(corners), notch, spec.outer_raceway_radius, spec.surface_size)
+    corners = [float(np.mod(a, TWO_PI)) for a in corners]
     ring = ring_mesh(
         spec.outer_raceway_radius,
         spec.outer_ring_thickness,
         True,
-        [TOP, *corners],
+        _snap([TOP, *corners], notch, spec.outer_raceway_radius, spec.surface_size),
         spec.surface_size,
         spec.max_size,
         spec.growth,
@@ -179,7 +193,9 @@ def _info(spec, mesh, centres, outer, inner, notch_outer, notch_inner) -> dict:
         "roller_angles": np.asarray(angles),
         "pitch_radius": spec.pitch_radius,
         "adapter": {
-            "width": spec.adapter_width,
+            # As meshed: differs from the spec only when a corner was moved onto a
+            # spall edge less than half a cell away.
+            "width": float(np.ptp(mesh.nodes[mesh.node_sets["adapter_top"], 0])),
             "height": spec.adapter_height,
             "top_y": spec.adapter_top,
         },
