@@ -166,6 +166,7 @@ def plot_envelope_spectrum(
     f_max: float | None = None,
     ax: Axes | None = None,
     title: str = "Squared envelope spectrum",
+    ylabel: str = "amplitude",
 ) -> Figure:
     """Envelope spectrum with markers at the harmonics of the fault frequencies.
 
@@ -191,6 +192,12 @@ def plot_envelope_spectrum(
     fig, ax = _axes(ax)
     keep = (f > 0) & (f <= f_max)
     ax.plot(f[keep], amplitude[keep], lw=0.7, color="k")
+    # Scale to the lines from half the lowest marker up: the near-DC bins of an envelope
+    # spectrum (slow level changes) would otherwise flatten everything else.
+    f_lo = 0.5 * min(markers.values()) if markers else 0.0
+    shown = keep & (f >= f_lo)
+    if shown.any() and np.max(amplitude[shown]) > 0:
+        ax.set_ylim(0.0, 1.05 * np.max(amplitude[shown]))
     for i, (name, f0) in enumerate(markers.items()):
         colour = _FAMILY_COLOURS.get(name, _EVENT_COLOURS[i % len(_EVENT_COLOURS)])
         for k in range(1, n_harmonics + 1):
@@ -198,7 +205,7 @@ def plot_envelope_spectrum(
                 ax.axvline(k * f0, color=colour, lw=0.8, ls="--", label=name if k == 1 else None)
     ax.set_xlim(0.0, f_max)
     ax.set_xlabel("frequency (Hz)")
-    ax.set_ylabel("amplitude")
+    ax.set_ylabel(ylabel)
     ax.set_title(title)
     if markers:
         ax.legend(fontsize="small")

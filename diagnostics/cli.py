@@ -1,0 +1,304 @@
+"""Command line of ``diagnostics``: ``python -m diagnostics analyze FILE ...``.
+
+Each subcommand is a pair ``add_<name>_arguments(parser)`` / ``run_<name>(args) -> int``
+registered in ``COMMANDS``; a later ``compare`` subcommand slots in the same way. Bad input
+is reported as one line on stderr with exit status 2, never a traceback.
+"""
+
+from __future__ import annotations
+
+import argparse
+import math
+import re
+import sys
+from pathlib import Path
+
+import numpy as np
+from scipy import signal as sp_signal
+
+from diagnostics.diagnose import Diagnosis, diagnose
+from diagnostics.envelope import envelope
+from diagnostics.files import atomic_path, write_json
+from diagnostics.filters import notch_filter
+from diagnostics.frequencies import BearingGeometry
+
+__all__ = ["main", "build_parser", "parse_bearing", "UsageError"]
+
+_LENGTH_UNITS = {"m": 1.0, "cm": 1e-2, "mm": 1e-3, "um": 1e-6, "in": 25.4e-3}
+# Seconds of the record drawn in the time trace and the spectrogram.
+_TRACE_S = 0.25
+
+
+class UsageError(Exception):
+    """Bad command-line input: reported as one line, exit status 2."""
+
+
+class _Parser(argparse.ArgumentParser):
+    # argparse prints the whole usage block on an error; one line is enough.
+    def error(self, message: str):  # noqa: D401 - argparse API
+        raise UsageError(f"{self.prog}: {message}")
+
+
+def _length(text: str, key: str) -> float:
+    match = re.fullmatch(r"\s*([-+0-9.eE]+)\s*([a-z]+)\s*", text)
+    if not match or match.group(2) not in _LENGTH_UNITS:
+        raise UsageError(
+            f"--bearing {key}={text!r}: give a length with a unit "
+            f"({', '.join(_LENGTH_UNITS)}), e.g. {key}=7.94mm"
+        )
+    try:
+        value = float(match.group(1))
+    except ValueError:
+        raise UsageError(f"--bearing {key}={text!r}: not a number") from None
+    return value * _LENGTH_UNITS[match.group(2)]
+
+
+def parse_bearing(text: str) -> BearingGeometry:
+    """Parse ``n=9,d=7.94mm,D=39.04mm[,angle=0]`` into a BearingGeometry (metres, degrees).
+
+    Raises
+    ------
+    UsageError
+        On a malformed item, an unknown or missing key, or an invalid geometry.
+    """
+    items: dict[str, str] = {}
+    for part in filter(None, (p.strip() for p in text.split(","))):
+        key, sep, value = part.partition("=")
+        if not sep or not value.strip():
+            raise UsageError(f"--bearing: expected key=value, got {part!r}")
+        key = key.strip()
+        if key not in ("n", "d", "D", "angle"):
+            raise UsageError(f"--bearing: unknown key {key!r} (use n, d, D, angle)")
+        items[key] = value.strip()
+    missing = [k for k in ("n", "d", "D") if k not in items]
+    if missing:
+        raise UsageError(
+            f"--bearing: missing {', '.join(missing)} (e.g. n=9,d=7.94mm,D=39.04mm,angle=0)"
+        )
+    try:
+        n = int(items["n"])
+    except ValueError:
+        raise UsageError(f"--bearing n={items['n']!r}: not an integer") from None
+    try:
+        angle = float(items.get("angle", "0"))
+    except ValueError:
+        raise UsageError(f"--bearing angle={items['angle']!r}: not a number (degrees)") from None
+    try:
+        return BearingGeometry(n, _length(items["d"], "d"), _length(items["D"], "D"), angle)
+    except ValueError as exc:
+        raise UsageError(f"--bearing: {exc}") from None
+
+
+def add_analyze_arguments(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument("file", metavar="FILE", help="vibration record (csv, txt, wav, mat, ...)")
+    parser.add_argument("--fs", type=float, help="sampling rate in Hz (if the file has none)")
+    parser.add_argument("--rpm", type=float, help="shaft speed in rpm (default: from the file)")
+    parser.add_argument(
+        "--bearing",
+        required=True,
+        help="geometry: n=ROLLERS,d=ROLLER_DIAMETER,D=PITCH_DIAMETER[,angle=DEG], "
+        "lengths with units (m, mm, in), e.g. n=9,d=7.94mm,D=39.04mm,angle=0",
+    )
+    parser.add_argument("--channel", help="column, variable or key to read")
+    parser.add_argument(
+        "--notch",
+        type=float,
+        nargs="+",
+        default=[],
+        metavar="HZ",
+        help="frequencies to notch out before the analysis",
+    )
+    parser.add_argument("--out", type=Path, help="output folder (default: FILE_STEM-diagnostics)")
+
+
+def _impact_times(x, fs: float, band: tuple[float, float], rate_hz: float) -> np.ndarray:
+    """Times of the strongest envelope burst per fault period, for marking figures."""
+    lo, hi = band
+    env = envelope(x, fs, band=(max(lo, 1e-3 * fs), hi) if lo > 0 or hi < fs / 2 else None)
+    peaks, props = sp_signal.find_peaks(env, distance=max(int(0.6 * fs / rate_hz), 1), height=0)
+    if peaks.size == 0:
+        return np.empty(0)
+    keep = props["peak_heights"] >= 0.5 * np.median(props["peak_heights"])
+    return peaks[keep] / fs
+
+
+def _save(fig, path: Path) -> str:
+    with atomic_path(path) as tmp:
+        fig.savefig(tmp, format="png", dpi=110)
+    return path.name
+
+
+def _figures(x, fs: float, d: Diagnosis, notch: list[float], raw, out: Path) -> list[str]:
+    from diagnostics import plots  # matplotlib only when figures are drawn
+
+    freqs = d.frequencies
+    n_show = min(x.size, int(_TRACE_S * fs))
+    events = None
+    if d.fault != "none":
+        rate = {"outer": freqs.bpfo, "inner": freqs.bpfi, "ball": 2.0 * freqs.bsf}[d.fault]
+        times = _impact_times(x[:n_show], fs, d.band, rate)
+        events = {f"{d.fault} impacts": times}
+    best = d.best_band
+    written = [
+        _save(plots.plot_time_trace(x[:n_show], fs, events), out / "trace.png"),
+        _save(plots.plot_spectrogram(x[:n_show], fs, events), out / "spectrogram.png"),
+        _save(plots.plot_spectral_kurtosis(x, fs), out / "spectral_kurtosis.png"),
+        _save(
+            plots.plot_envelope_spectrum(
+                best.f,
+                best.z,
+                freqs,
+                title=f"Squared envelope spectrum, band {best.band[0]:.0f}-"
+                f"{best.band[1]:.0f} Hz ({best.name})",
+                ylabel="power / local background",
+            ),
+            out / "envelope_spectrum.png",
+        ),
+        _save(plots.plot_psd_notch(raw, fs, notch), out / "psd_notch.png"),
+        _save(plots.plot_third_octave(x, fs), out / "third_octave.png"),
+    ]
+    if d.kurtogram is not None:
+        written.append(_save(plots.plot_kurtogram(d.kurtogram), out / "kurtogram.png"))
+    return written
+
+
+def _family_summary(d: Diagnosis) -> dict:
+    out = {}
+    for name, s in d.families.items():
+        if s is None:
+            out[name] = None
+            continue
+        out[name] = {
+            "expected_hz": s.expected_hz,
+            "found_hz": s.found_hz,
+            "band_hz": list(s.band),
+            "lines_hz": s.lines_hz,
+            "z": s.z,
+            "threshold": s.threshold,
+            "n_significant": s.n_significant,
+            "detected": s.detected,
+            "evidence": s.evidence,
+            "sideband_hz": s.sideband_hz,
+            "n_sidebands_significant": s.n_sidebands_significant,
+        }
+    return out
+
+
+def run_analyze(args: argparse.Namespace) -> int:
+    from diagnostics.io import read_signal
+
+    geometry = parse_bearing(args.bearing)
+    if args.fs is not None and not (math.isfinite(args.fs) and args.fs > 0):
+        raise UsageError(f"--fs must be a positive frequency in Hz, got {args.fs:g}")
+    sig = read_signal(args.file, channel=args.channel, fs=args.fs)
+    rpm = args.rpm if args.rpm is not None else sig.meta.get("rpm")
+    if rpm is None:
+        raise UsageError(f"{args.file}: the file holds no shaft speed; give --rpm")
+    if not (math.isfinite(rpm) and rpm > 0):
+        raise UsageError(f"--rpm must be a positive speed, got {rpm:g}")
+    shaft_hz = rpm / 60.0
+    raw = sig.x
+    x = raw
+    for f0 in args.notch:
+        x = notch_filter(x, sig.fs, f0)
+    d = diagnose(x, sig.fs, geometry, shaft_hz)
+    out = args.out if args.out is not None else Path(f"{Path(args.file).stem}-diagnostics")
+    figures = _figures(x, sig.fs, d, list(args.notch), raw, out)
+    kg = d.kurtogram
+    summary = {
+        "file": str(args.file),
+        "channel": sig.name,
+        "fs_hz": sig.fs,
+        "n_samples": int(x.size),
+        "duration_s": x.size / sig.fs,
+        "rpm": rpm,
+        "bearing": {
+            "n_rollers": geometry.n_rollers,
+            "roller_diameter_m": geometry.roller_diameter,
+            "pitch_diameter_m": geometry.pitch_diameter,
+            "contact_angle_deg": geometry.contact_angle_deg,
+        },
+        "fault_frequencies_hz": d.frequencies.as_dict(),
+        "kurtogram": None
+        if kg is None
+        else {
+            "fc_hz": kg.fc,
+            "bw_hz": kg.bw,
+            "band_hz": list(kg.band),
+            "level": kg.level,
+            "kurtosis": kg.kurtosis,
+        },
+        "verdict": d.fault,
+        "confidence": d.confidence,
+        "band_hz": list(d.band),
+        "scores": d.scores,
+        "alpha": d.alpha,
+        "families": _family_summary(d),
+        "notch_hz": list(args.notch),
+        "figures": figures,
+    }
+    write_json(out / "summary.json", summary)
+    _print_summary(sig, rpm, d, out, len(figures) + 1)
+    return 0
+
+
+def _print_summary(sig, rpm: float, d: Diagnosis, out: Path, n_files: int) -> None:
+    f = d.frequencies
+    kg = d.kurtogram
+    lines = [
+        f"{sig.name}: {sig.fs:g} Hz, {sig.x.size / sig.fs:.2f} s, {rpm:g} rpm "
+        f"(shaft {f.shaft:.2f} Hz)",
+        f"fault frequencies: FTF {f.ftf:.2f}  BPFO {f.bpfo:.2f}  BPFI {f.bpfi:.2f}  "
+        f"BSF {f.bsf:.2f} Hz",
+    ]
+    if kg is not None:
+        lines.append(
+            f"kurtogram best band: {kg.band[0]:.0f}-{kg.band[1]:.0f} Hz "
+            f"(level {kg.level:.1f}, kurtosis {kg.kurtosis:.2f})"
+        )
+    verdict = "no bearing fault found" if d.fault == "none" else f"{d.fault} fault"
+    lines += [
+        f"verdict: {verdict} (confidence {d.confidence:.2f}; "
+        f"band {d.band[0]:.0f}-{d.band[1]:.0f} Hz)",
+        "scores: " + "  ".join(f"{k} {v:.0f}" for k, v in d.scores.items()),
+        f"wrote {n_files} files to {out}",
+    ]
+    print("\n".join(lines))
+
+
+COMMANDS = {
+    "analyze": (
+        "diagnose one vibration record: figures, summary.json and a verdict",
+        add_analyze_arguments,
+        run_analyze,
+    ),
+}
+
+
+def build_parser() -> argparse.ArgumentParser:
+    parser = _Parser(
+        prog="python -m diagnostics",
+        description="Bearing vibration diagnostics on measured or simulated records.",
+    )
+    sub = parser.add_subparsers(dest="command", metavar="COMMAND", parser_class=_Parser)
+    for name, (help_text, add_arguments, _) in COMMANDS.items():
+        add_arguments(sub.add_parser(name, help=help_text, description=help_text))
+    return parser
+
+
+def main(argv: list[str] | None = None) -> int:
+    """Run the command line; returns the exit status."""
+    parser = build_parser()
+    try:
+        args = parser.parse_args(argv)
+        if args.command is None:
+            parser.print_help(sys.stderr)
+            return 2
+        return int(COMMANDS[args.command][2](args) or 0)
+    except (UsageError, ValueError, OSError) as exc:
+        message = " ".join(str(exc).split())  # one line, whatever the message held
+        print(f"error: {message}", file=sys.stderr)
+        return 2
+    except KeyboardInterrupt:
+        print("interrupted", file=sys.stderr)
+        return 130

@@ -1,0 +1,128 @@
+"""python -m diagnostics analyze: verdicts and summary.json on measured records; bad input
+gives one line on stderr and exit status 2."""
+
+from __future__ import annotations
+
+import json
+import os
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from diagnostics.cli import main, parse_bearing
+
+ROOT = Path(__file__).resolve().parents[1]
+BEARING = "n=9,d=7.94mm,D=39.04mm,angle=0"
+SUMMARY_KEYS = {
+    "fault_frequencies_hz",
+    "kurtogram",
+    "verdict",
+    "confidence",
+    "scores",
+    "band_hz",
+    "families",
+    "figures",
+}
+
+
+def _run(*args: str) -> subprocess.CompletedProcess:
+    env = dict(os.environ, PYTHONPATH=str(ROOT), MPLBACKEND="Agg")
+    return subprocess.run(
+        [sys.executable, "-m", "diagnostics", *args],
+        capture_output=True,
+        text=True,
+        env=env,
+        cwd=ROOT,
+        timeout=300,
+    )
+
+
+def test_cli_outer_race_record(cwru_dir, tmp_path):
+    out = tmp_path / "o"
+    res = _run(
+        "analyze", str(cwru_dir / "12k_Drive_End_OR007@6_0_130.mat"),
+        "--fs", "12000", "--bearing", BEARING, "--out", str(out),
+    )  # fmt: skip
+    assert res.returncode == 0, res.stderr
+    assert "verdict: outer fault" in res.stdout
+    summary = json.loads((out / "summary.json").read_text())
+    assert SUMMARY_KEYS <= summary.keys()
+    assert summary["verdict"] == "outer"
+    assert summary["rpm"] == 1796.0  # from the file
+    # BPFO = 3.5848 x shaft rate (1796 rpm)
+    assert summary["fault_frequencies_hz"]["bpfo_hz"] == pytest.approx(3.5848 * 1796 / 60, 1e-4)
+    assert summary["scores"]["outer"] > summary["scores"]["inner"]
+    for name in summary["figures"]:
+        assert (out / name).stat().st_size > 1000
+    assert {"kurtogram.png", "envelope_spectrum.png", "spectrogram.png"} <= set(summary["figures"])
+
+
+@pytest.mark.parametrize(
+    "name, fs, verdict",
+    [("12k_Drive_End_IR007_0_105.mat", "12000", "inner"), ("normal_0_97.mat", "48000", "none")],
+)
+def test_cli_verdicts(cwru_dir, tmp_path, capsys, name, fs, verdict):
+    out = tmp_path / "r"
+    code = main(["analyze", str(cwru_dir / name), "--fs", fs, "--bearing", BEARING,
+                 "--out", str(out)])  # fmt: skip
+    assert code == 0
+    assert json.loads((out / "summary.json").read_text())["verdict"] == verdict
+    assert "verdict:" in capsys.readouterr().out
+
+
+def test_cli_notch_and_rpm_override(tmp_path, capsys):
+    # A CSV without speed: --rpm is required and used; --notch is recorded.
+    fs = 12000.0
+    x = np.random.default_rng(0).standard_normal(int(2 * fs))
+    path = tmp_path / "noise.csv"
+    np.savetxt(path, x, header="acc", comments="")
+    out = tmp_path / "n"
+    argv = ["analyze", str(path), "--fs", "12000", "--bearing", BEARING, "--out", str(out)]
+    assert main(argv + ["--rpm", "1800", "--notch", "60", "120"]) == 0
+    summary = json.loads((out / "summary.json").read_text())
+    assert summary["notch_hz"] == [60.0, 120.0]
+    assert summary["fault_frequencies_hz"]["shaft_hz"] == pytest.approx(30.0)
+    assert summary["verdict"] == "none"
+    capsys.readouterr()
+    assert main(argv) == 2  # no speed anywhere
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "--rpm" in err[0]
+
+
+BAD = {
+    "bearing": ["--fs", "12000", "--bearing", "n=9,d=7.94,D=39.04mm"],
+    "bearing key": ["--fs", "12000", "--bearing", "n=9,d=7.94mm,D=39.04mm,z=3"],
+    "geometry": ["--fs", "12000", "--bearing", "n=9,d=40mm,D=39.04mm"],
+    "channel": ["--fs", "12000", "--bearing", BEARING, "--channel", "X999_DE_time"],
+    "fs": ["--bearing", BEARING],
+    "fs value": ["--fs", "twelve", "--bearing", BEARING],
+}
+
+
+@pytest.mark.parametrize("case", sorted(BAD))
+def test_bad_arguments_one_line_exit_2(cwru_dir, tmp_path, capsys, case):
+    record = str(cwru_dir / "12k_Drive_End_OR007@6_0_130.mat")
+    code = main(["analyze", record, *BAD[case], "--out", str(tmp_path / "x")])
+    assert code == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and err[0].startswith("error:")
+    assert not (tmp_path / "x" / "summary.json").exists()
+
+
+def test_missing_file_subprocess(tmp_path):
+    res = _run("analyze", str(tmp_path / "absent.mat"), "--fs", "12000", "--bearing", BEARING)
+    assert res.returncode == 2
+    lines = res.stderr.strip().splitlines()
+    assert len(lines) == 1 and "absent.mat" in lines[0]
+    assert "Traceback" not in res.stderr
+
+
+def test_parse_bearing_units():
+    g = parse_bearing("n=9, d=0.3126in, D=1.537in, angle=15")
+    assert g.n_rollers == 9
+    assert g.roller_diameter == pytest.approx(7.94e-3, rel=1e-3)
+    assert g.pitch_diameter == pytest.approx(39.04e-3, rel=1e-3)
+    assert g.contact_angle_deg == 15.0
