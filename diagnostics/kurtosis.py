@@ -145,7 +145,7 @@ def _band_kurtosis(bands: np.ndarray) -> np.ndarray:
     return np.where(energy < _EPS, 0.0, value)
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)
 class Kurtogram:
     """Fast kurtogram: the map and its best band.
 
@@ -229,7 +229,13 @@ def kurtogram(x, fs: float, nlevel: int = 7) -> Kurtogram:
         ``nlevel``, or a constant signal.
     """
     nlevel = check_positive_int(nlevel, "nlevel")
-    x = check_signal(x, fs, min_length=2 ** (nlevel + 7))
+    x = check_signal(x, fs)
+    if x.size < 2 ** (nlevel + 7):
+        # The reference's limit: log2(len(x)) - 7 levels at most.
+        raise ValueError(
+            f"x is too short for a kurtogram with nlevel={nlevel}: {x.size} samples, need at "
+            f"least 2**(nlevel+7) = {2 ** (nlevel + 7)}; lower nlevel"
+        )
     x = x - x.mean()
     if not np.any(x):
         raise ValueError("x is constant: the kurtogram of a signal without variation is undefined")
