@@ -22,7 +22,7 @@ def adapter_corner_angles(ring_radius: float, width: float) -> tuple[float, floa
 
 
 def adapter_mesh(
-    bottom: np.ndarray, top_y: float, max_size: float
+    bottom: np.ndarray, top_y: float, max_size: float, min_size: float = 0.0
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Mesh the adapter above the ring nodes ``bottom``.
 
@@ -33,7 +33,10 @@ def adapter_mesh(
     top_y : float
         Height of the adapter's flat top, m.
     max_size : float
-        Largest element height, m.
+        Largest element height at the adapter's tall sides, m.
+    min_size : float
+        Smallest element height at its lowest point (a wide adapter is much lower in the
+        middle than at its sides; thin elements there would cut the time step), m.
 
     Returns
     -------
@@ -44,7 +47,11 @@ def adapter_mesh(
     n_u = len(bottom) - 1
     x_left, x_right = bottom[0, 0], bottom[-1, 0]
     tallest = top_y - min(bottom[0, 1], bottom[-1, 1])
-    n_v = max(1, math.ceil(tallest / max_size - 1e-9))
+    lowest = top_y - bottom[:, 1].max()
+    n_v = math.ceil(tallest / max_size - 1e-9)
+    if min_size > 0:
+        n_v = min(n_v, math.floor(lowest / min_size + 1e-9))
+    n_v = max(1, n_v)
     top = np.stack([bottom[:, 0], np.full(n_u + 1, top_y)], axis=1)
     s = np.arange(n_v + 1) / n_v
     left = np.stack([np.full(n_v + 1, x_left), bottom[0, 1] + s * (top_y - bottom[0, 1])], 1)

@@ -134,7 +134,9 @@ def _outer_ring_with_adapter(
     eps = 1e-9
     under = (theta >= corners[0] - eps) & (theta <= corners[1] + eps)
     ids = ring.back_ids[under][np.argsort(-theta[under])]  # left corner to right corner
-    a_nodes, a_elements, a_top = adapter_mesh(ring.nodes[ids], spec.adapter_top, spec.max_size)
+    a_nodes, a_elements, a_top = adapter_mesh(
+        ring.nodes[ids], spec.adapter_top, spec.max_size, spec.surface_size
+    )
     n_ring = len(ring.nodes)
     nodes = np.concatenate([ring.nodes, a_nodes])
     elements = np.concatenate([ring.elements, a_elements + n_ring])

@@ -53,6 +53,7 @@ def coarsening_rows(
     max_size: float,
     frozen: int = 1,
     max_rows: int = 4,
+    min_width: float = 0.0,
 ) -> list[float]:
     """The coarsening ratio (1 or 2) of every layer.
 
@@ -69,6 +70,10 @@ def coarsening_rows(
         Rows next to the surface that stay plain (surface elements stay regular).
     max_rows : int
         At most this many coarsening rows.
+    min_width : float
+        Also coarsen a row whose elements would be narrower than this (a shrinking
+        circumference, as inside a roller), as long as the row is at least as thick as
+        its elements are wide: narrow elements would cut the time step.
 
     Returns
     -------
@@ -79,11 +84,9 @@ def coarsening_rows(
     factor = 1.0
     for k, (t, w) in enumerate(zip(thicknesses, widths, strict=True)):
         width = w * factor
+        needed = t >= COARSEN_ASPECT * width or (width < min_width and t >= width)
         coarsen = (
-            k >= frozen
-            and t >= COARSEN_ASPECT * width
-            and 2 * width <= 1.2 * max_size
-            and ratios.count(2.0) < max_rows
+            k >= frozen and needed and 2 * width <= 1.2 * max_size and ratios.count(2.0) < max_rows
         )
         ratios.append(2.0 if coarsen else 1.0)
         factor *= ratios[-1]

@@ -19,6 +19,8 @@ CIRCULAR_FRACTION = 0.62
 CORE_HALF_FRACTION = 0.36
 # The core keeps at least this many cells per side.
 MIN_CORE_CELLS = 4
+# Elements narrower than this fraction of the surface size are coarsened away.
+MIN_WIDTH = 0.75
 
 
 def roller_surface_cells(diameter: float, size: float) -> int:
@@ -51,7 +53,9 @@ def roller_mesh(
     mid = 0.5 * (depth[1:] + depth[:-1])
     widths = h * (radius - mid) / radius
     max_rows = max(0, int(math.log2(n / (4 * MIN_CORE_CELLS))))
-    ratios = coarsening_rows(t, widths, max_size, frozen=1, max_rows=max_rows)
+    ratios = coarsening_rows(
+        t, widths, max_size, frozen=1, max_rows=max_rows, min_width=MIN_WIDTH * size
+    )
     factor = float(np.prod(ratios))
     # Blend rows: about one element width each across the gap to the core square.
     half = CORE_HALF_FRACTION * radius
