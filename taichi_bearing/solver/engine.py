@@ -101,6 +101,15 @@ def _every(interval: float | None, sample_rate: float) -> int | None:
     return max(1, round(interval * sample_rate))
 
 
+def _contact_energy(model: Model) -> float:
+    """Sum of ``energy(model)`` of the contributors that define it (e.g. penalty energy).
+
+    Informational: the work of contributor forces is already in ``external_work`` (it is
+    part of the non-elastic nodal force), so it is not added to the balance again.
+    """
+    return float(sum(c.energy(model) for c in model.contributors if hasattr(c, "energy")))
+
+
 def _diagnose(model: Model, step: int, t: float, what: str, cause: str) -> SimulationError:
     """A SimulationError naming the step, time, worst node and element."""
     x = model.positions()
@@ -213,6 +222,7 @@ def run_transient(
                 t = step() * model.dt
                 means = model.take_sensor_means(s_steps)
                 en = model.energies()
+                en["contact"] = _contact_energy(model)
                 mech = en["kinetic"] + en["internal"] + en["hourglass"]
                 resid = mech + en["damping"] - en["external_work"] - e0
                 scale = max(mech, abs(en["external_work"]), e0, en["damping"])
