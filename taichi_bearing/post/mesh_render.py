@@ -15,7 +15,7 @@ from taichi_bearing.mesh.types import Mesh
 # with roller 0 (the reference roller) picked out.
 OUTER_RGB = (0.55, 0.66, 0.80)
 INNER_RGB = (0.86, 0.74, 0.42)
-ROLLER_RGB = (0.80, 0.80, 0.78)
+ROLLER_RGB = (0.72, 0.72, 0.70)
 ROLLER0_RGB = (0.85, 0.45, 0.40)
 SPALL_RGB = (0.85, 0.10, 0.10)
 
@@ -87,7 +87,9 @@ def render_mesh_pictures(
     half_height = 0.5 * max(hi[1] - lo[1], hi[0] - lo[0]) * 1.06
     label = title or f"{mesh.n_elements} elements, {mesh.n_nodes} nodes"
     written.append(
-        _render(mesh, out_dir / "mesh_bearing.png", centre, half_height, size, label, 0.4)
+        _render(
+            mesh, out_dir / "mesh_bearing.png", centre, half_height, size, label, 0.4, legend=True
+        )
     )
     spall = mesh.info.get("spall")
     if spall:
@@ -144,6 +146,7 @@ def _render(
     up=(0.0, 1.0),
     spall=None,
     aspect=1.0,
+    legend=False,
 ):
     import pyvista as pv
 
@@ -167,6 +170,9 @@ def _render(
         )
         plotter.add_points(corners, color=SPALL_RGB, point_size=12, render_points_as_spheres=True)
     plotter.add_text(text, position="upper_left", font_size=12, color="black")
+    if legend:
+        key = "blue: outer ring + adapter\nyellow: inner ring\nred: roller 0\ngrey: rollers"
+        plotter.add_text(key, position="upper_right", font_size=12, color="black")
     plotter.enable_parallel_projection()
     cam = plotter.camera
     cam.focal_point = (float(focus[0]), float(focus[1]), 0.0)
