@@ -5,7 +5,13 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from taichi_bearing.mesh.grid import boundary_segments, coons_patch, quad_grid, signed_areas
+from taichi_bearing.mesh.grid import (
+    boundary_segments,
+    coons_patch,
+    orient_ccw,
+    quad_grid,
+    signed_areas,
+)
 from taichi_bearing.mesh.ogrid import o_grid_disk
 from taichi_bearing.mesh.primitives import annulus_mesh, disk_mesh, rectangle_mesh
 from taichi_bearing.mesh.quality import jacobian_determinants, mesh_statistics, wave_speed
@@ -160,3 +166,13 @@ def test_statistics_of_a_uniform_grid():
     assert st.critical_dt == pytest.approx(lc / c)
     assert st.part_elements == {"rectangle": 16}
     assert "16 elements" in st.summary()
+
+
+def test_orientation_is_fixed_per_block_and_tangles_are_refused():
+    m = rectangle_mesh(1.0, 1.0, 2, 1)
+    flipped = m.elements[:, ::-1]
+    assert np.array_equal(orient_ccw(m.nodes, flipped), m.elements)
+    mixed = m.elements.copy()
+    mixed[0] = mixed[0, ::-1]
+    with pytest.raises(ValueError, match="inverted"):
+        orient_ccw(m.nodes, mixed)

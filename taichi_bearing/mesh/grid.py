@@ -117,11 +117,26 @@ def signed_areas(nodes: np.ndarray, elements: np.ndarray) -> np.ndarray:
 
 
 def orient_ccw(nodes: np.ndarray, elements: np.ndarray) -> np.ndarray:
-    """The elements with any clockwise quad reversed so that all run counter-clockwise."""
-    elements = np.array(elements, copy=True)
-    flip = signed_areas(nodes, elements) < 0
-    elements[flip] = elements[flip][:, ::-1]
-    return elements
+    """The elements, all reversed if they all run clockwise.
+
+    A block is oriented as a whole, never element by element: flipping a single inverted
+    quad would hide a tangled mesh.
+
+    Raises
+    ------
+    ValueError
+        If some quads run clockwise (or are degenerate) and others counter-clockwise.
+    """
+    elements = np.asarray(elements)
+    area = signed_areas(nodes, elements)
+    if np.all(area < 0):
+        return elements[:, ::-1].copy()
+    bad = np.flatnonzero(area <= 0)
+    if len(bad):
+        raise ValueError(
+            f"{len(bad)} of {len(elements)} quads are inverted or degenerate (first: {bad[0]})"
+        )
+    return np.array(elements, copy=True)
 
 
 def boundary_segments(elements: np.ndarray) -> np.ndarray:

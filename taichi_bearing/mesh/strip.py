@@ -10,10 +10,11 @@ fine level to a coarser one with conforming templates (no hanging nodes):
 - ``2``: four fine cells to two coarse cells (6 quads, 3 interior nodes);
 - ``3``: three fine cells to one coarse cell (4 quads, 2 interior nodes).
 
-A quad mesh's boundary always has an even number of edges, so a single fine cell pair cannot
-become one coarse cell on its own: the ``2`` template works on pairs. Coarse nodes sit
-exactly on fine nodes' positions, so positions that must stay nodes (arc breakpoints such as
-the spall edges) survive every coarsening.
+A quad mesh's boundary always has an even number of edges, so two fine cells cannot
+become one coarse cell on their own: the ``2`` template works on pairs. Coarse nodes start
+at the positions of the fine nodes they keep; positions that must stay nodes (arc
+breakpoints such as the spall edges) survive every coarsening, and the coarse nodes between
+them can be re-spaced evenly.
 """
 
 from __future__ import annotations
@@ -59,14 +60,11 @@ def plan_arc(n_fine: int, n_coarse: int) -> list[int]:
         counts = {2: (n_fine - n_coarse) // 2, 1: 2 * n_coarse - n_fine, 3: 0}
     else:  # ratio between 2 and 3: pairs (2) and triples (3)
         counts = {3: n_fine - 2 * n_coarse, 2: (3 * n_coarse - n_fine) // 2, 1: 0}
-    total = sum(counts.values())
     # Spread each kind evenly: place kind k's i-th template at (i + 1/2) / count_k.
     keyed = []
     for kind, count in counts.items():
         keyed += [((i + 0.5) / count, kind) for i in range(count)]
-    plan = [kind for _, kind in sorted(keyed)]
-    assert len(plan) == total
-    return plan
+    return [kind for _, kind in sorted(keyed)]
 
 
 def coarse_count(n_fine: int, ratio: float) -> int:
