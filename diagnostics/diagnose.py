@@ -16,16 +16,18 @@ Method (Randall and Antoni 2011; Smith and Randall 2015, the CWRU benchmark):
    +-``slip`` of its kinematic value (rollers slip by 1-2 %, and a logged speed is not exact):
    outer race k*BPFO, inner race k*BPFI, rolling element k*2*BSF. Shaft harmonics are masked
    out, since they are present in every record.
-5. Statistics. A harmonic line is significant when its normalised value exceeds
-   ``ln(W / alpha_line)``, W being the number of bins its slip window spans (a Bonferroni
-   bound on the maximum of W exponential bins). A family is detected when at least two of
-   its harmonics are significant: a single line near a fault frequency is no evidence of a
-   fault (a healthy bearing's varying compliance, or any other periodic source, can give one),
-   a series of harmonics is the mark of repetitive impacts. Under the no-fault hypothesis the
-   chance that two of K independent harmonic windows both pass is at most
-   ``C(K, 2) * alpha_line**2``; ``alpha_line`` is set so that this, summed over the families
-   and the candidate bands, is ``alpha`` (1e-4 by default): the healthy threshold comes from
-   that false-alarm probability, not from example records.
+5. Statistics. The p-value of a harmonic is at most ``W exp(-z)``, W being the number of
+   bins its slip window spans (Bonferroni bound on the largest of W exponential bins). A
+   family is detected when two of its harmonics are jointly significant: the two smallest
+   p-values have a product c with ``c (1 - ln c)`` (the chance of so small a product from two
+   independent uniform p-values, Fisher's method) at most ``alpha_pair``, and the weaker of
+   the two is itself below 0.01. A single line near a fault frequency is no evidence of a
+   fault (a healthy bearing's varying compliance, or any other periodic source, can give
+   one); a series of harmonics is the mark of repetitive impacts. ``alpha_pair`` is
+   ``alpha`` divided by the number of harmonic pairs, families and candidate bands (union
+   bound), so that a fault-free record is called faulty with probability at most ``alpha``
+   (1e-4 by default): the healthy threshold comes from that false-alarm probability, not
+   from example records.
 6. Verdict: among the detected families, the one with the largest evidence (the sum of the
    normalised values of its significant harmonics, each close to -ln p of that line). Lines
    shared by two families (2 BPFI is within 0.7 % of 3 BPFO on many bearings) count for
@@ -72,6 +74,8 @@ _SHAFT_MASK_BINS = 2.5
 # Harmonics are sought only up to this fraction of a band's width: the squared envelope of
 # a band of width B holds modulation frequencies up to B, with a triangular weight.
 _USABLE_FRACTION = 0.8
+# A harmonic supports a detection when its own p-value is at most this.
+_SUPPORT_P = 0.01
 
 
 @dataclass(frozen=True)
@@ -93,18 +97,29 @@ class FamilyScore:
     z : numpy.ndarray
         Background-normalised SES value at each harmonic.
     threshold : numpy.ndarray
-        Significance threshold of each harmonic.
+        Value of ``z`` at which each harmonic's p-value is 0.01 (a supporting line).
     n_significant : int
-        Harmonics above their threshold.
+        Supporting harmonics (p-value at most 0.01).
     evidence : float
-        Sum of ``z`` over the significant harmonics (0 when none).
+        Sum of ``z`` over the supporting harmonics (0 when none); each ``z`` is close to
+        minus the log of that line's p-value.
+    p_values : numpy.ndarray
+        Bonferroni p-value of each harmonic over its slip window.
+    pair_p : float
+        Joint p-value of the two strongest harmonics (Fisher's product).
+    detected : bool
+        ``pair_p <= alpha_pair`` and both lines supporting.
+    near_miss : float
+        In [0, 1]: how close the family came to detection on a log-probability scale
+        (1 when detected).
     sideband_hz : float
         Modulation rate whose sidebands were measured (shaft rate for the inner race, cage
         rate for the rolling elements, 0 for the outer race).
     sideband_z : numpy.ndarray
         Normalised SES value at k * found_hz - sideband_hz and + sideband_hz (2 x K).
     n_sidebands_significant : int
-        Sidebands above their threshold.
+        Sidebands whose p-value (a bin either side of the expected offset) is at most
+        ``sqrt(alpha_pair)``.
     """
 
     family: str
@@ -116,23 +131,14 @@ class FamilyScore:
     threshold: np.ndarray = field(repr=False)
     n_significant: int
     evidence: float
+    p_values: np.ndarray = field(default_factory=lambda: np.ones(0), repr=False)
+    pair_p: float = 1.0
+    detected: bool = False
+    near_miss: float = 0.0
     sideband_hz: float = 0.0
     sideband_z: np.ndarray = field(default_factory=lambda: np.zeros((2, 0)), repr=False)
     n_sidebands_significant: int = 0
     resolution_hz: float = 0.0
-
-    @property
-    def detected(self) -> bool:
-        """At least two harmonics are significant."""
-        return self.n_significant >= 2
-
-    def near_miss(self) -> float:
-        """Second-largest ratio z / threshold over the harmonics, in [0, 1]: how close the
-        family came to detection (1 or more means detected)."""
-        if self.z.size < 2:
-            return 0.0
-        ratio = np.sort(self.z / self.threshold)[-2]
-        return float(min(max(ratio, 0.0), 1.0))
 
 
 @dataclass(frozen=True)
@@ -159,12 +165,13 @@ class Diagnosis:
         Demodulation band (Hz) of the verdict: the band of the winning family, or for
         ``"none"`` the band where the strongest (undetected) evidence was seen.
     scores : dict
-        Evidence per family (sum of the normalised SES values of its significant harmonics,
-        best band); 0 where no harmonic is significant.
+        Evidence per family (sum of the normalised SES values of its supporting harmonics,
+        best band); 0 where no harmonic supports it.
     confidence : float
-        In [0, 1]. For a fault: its evidence over its own plus that of the next detected
-        family (1 when no other family is detected). For ``"none"``: one minus how close the
-        nearest family came to a second significant harmonic.
+        In [0, 1]. For a fault: the evidence of its own lines that no other detected family
+        explains, over that plus the same for the next detected family (1 when no other
+        family is detected). For ``"none"``: one minus the ``near_miss`` of the nearest
+        family.
     frequencies : FaultFrequencies
         Kinematic frequencies at ``shaft_hz``.
     families : dict
@@ -298,6 +305,11 @@ def _shaft_mask(f: np.ndarray, shaft_hz: float) -> np.ndarray:
     return mask
 
 
+def _pair_tail(c: float) -> float:
+    """P(p1 * p2 <= c) for two independent uniform p-values (Fisher's product, two terms)."""
+    return c * (1.0 - math.log(c)) if c > 0.0 else 0.0
+
+
 def _score_family(
     family: str,
     f: np.ndarray,
@@ -305,7 +317,7 @@ def _score_family(
     f0: float,
     n_harm: int,
     slip: float,
-    alpha_line: float,
+    alpha_pair: float,
     band: tuple[float, float],
     sideband_hz: float,
 ) -> FamilyScore:
@@ -319,9 +331,19 @@ def _score_family(
     best = int(np.argmax(np.log1p(values).sum(axis=1)))
     fc = float(cands[best])
     zk = values[best]
+    # p-value of each harmonic: the largest of the W exponential bins of its slip window
+    # exceeds z with probability at most W exp(-z).
     windows = 2.0 * slip * k * f0 / df + 2.0
-    thr = np.log(windows / alpha_line)
-    sig = zk > thr
+    p = np.minimum(1.0, windows * np.exp(-zk))
+    p1, p2 = np.sort(p)[:2]
+    pair_p = _pair_tail(p1 * p2)
+    detected = bool(pair_p <= alpha_pair and p2 <= _SUPPORT_P)
+    support = p <= _SUPPORT_P
+    with np.errstate(divide="ignore"):
+        closeness = min(
+            math.log(max(pair_p, 1e-300)) / math.log(alpha_pair),
+            math.log(max(p2, 1e-300)) / math.log(_SUPPORT_P),
+        )
     if sideband_hz > 0.0:
         # Sidebands sit at a fixed offset from the found line; allow a bin either side.
         offsets = np.array([-sideband_hz, sideband_hz])
@@ -332,8 +354,7 @@ def _score_family(
                 for i in range(2)
             ]
         )
-        sb_thr = math.log(4.0 / alpha_line)
-        n_sb = int((sb > sb_thr).sum())
+        n_sb = int((4.0 * np.exp(-sb) <= math.sqrt(alpha_pair)).sum())
     else:
         sb = np.zeros((2, 0))
         n_sb = 0
@@ -344,9 +365,13 @@ def _score_family(
         found_hz=fc,
         lines_hz=k * fc,
         z=zk,
-        threshold=thr,
-        n_significant=int(sig.sum()),
-        evidence=float(zk[sig].sum()),
+        threshold=np.log(windows / _SUPPORT_P),
+        n_significant=int(support.sum()),
+        evidence=float(zk[support].sum()),
+        p_values=p,
+        pair_p=float(pair_p),
+        detected=detected,
+        near_miss=1.0 if detected else float(min(max(closeness, 0.0), 1.0)),
         sideband_hz=sideband_hz,
         sideband_z=sb,
         n_sidebands_significant=n_sb,
@@ -509,7 +534,7 @@ def diagnose(
 
     n_tests = len(FAMILIES) * len(candidates)
     pairs = math.comb(n_harmonics, 2)
-    alpha_line = math.sqrt(alpha / (n_tests * pairs))
+    alpha_pair = alpha / (n_tests * pairs)
     f_max = (n_harmonics + 1) * f_high + freqs.shaft
     half_window = _BACKGROUND_FRACTION * f_low
 
@@ -526,7 +551,7 @@ def diagnose(
                 scores[family] = None
                 continue
             scores[family] = _score_family(
-                family, f, z_masked, f0, n_harm, slip, alpha_line, band, sb_hz
+                family, f, z_masked, f0, n_harm, slip, alpha_pair, band, sb_hz
             )
         bands.append(BandScore(name, band, kurt, f, z, scores))
 
@@ -534,7 +559,7 @@ def diagnose(
     for family in FAMILIES:
         options = [b.families[family] for b in bands if b.families[family] is not None]
         best[family] = max(
-            options, key=lambda s: (s.detected, s.evidence, s.near_miss()), default=None
+            options, key=lambda s: (s.detected, s.evidence, s.near_miss), default=None
         )
     detected = [s for s in best.values() if s is not None and s.detected]
     unique = {s.family: _unique_evidence(s, [o for o in detected if o is not s]) for s in detected}
@@ -550,9 +575,9 @@ def diagnose(
     else:
         fault = "none"
         present = [s for s in best.values() if s is not None]
-        nearest = max(present, key=lambda s: (s.near_miss(), s.evidence), default=None)
+        nearest = max(present, key=lambda s: (s.near_miss, s.evidence), default=None)
         band = nearest.band if nearest is not None else bands[0].band
-        confidence = 1.0 - (nearest.near_miss() if nearest is not None else 0.0)
+        confidence = 1.0 - (nearest.near_miss if nearest is not None else 0.0)
     return Diagnosis(
         fault=fault,
         band=band,
