@@ -132,6 +132,45 @@ def test_fast_kurtogram_equals_the_straightforward_reference(n, nlevel, seed):
     np.testing.assert_allclose(fast.freqs, ref["freqs"])
 
 
+def _logistic_test_signal(n: int = 2**15) -> np.ndarray:
+    """Logistic-map pseudo-noise (plain IEEE arithmetic, the same on every machine) plus
+    decaying 3.1 kHz resonances 37 times a second."""
+    value, noise = 0.3141592653589793, []
+    for _ in range(n):
+        value = 3.99 * value * (1.0 - value)
+        noise.append(value)
+    x = np.array(noise) - 0.5
+    t = np.arange(n) / FS
+    ring = t[:200]
+    burst = 0.8 * np.exp(-900.0 * ring) * np.sin(2 * np.pi * 3100.0 * ring)
+    for start in np.arange(0.004, t[-1] - 0.01, 1 / 37.0):
+        i = int(round(start * FS))
+        x[i : i + 200] += burst
+    return x
+
+
+# Antoni's own Fast_kurtogram.m (revision 12-2014), run in GNU Octave 7.3 on the signal
+# above with nlevel = 6 and fir1 as MATLAB defines it (Hamming-windowed ideal response;
+# Octave's fir1 samples the frequency response instead and differs by about 1e-3):
+# best cell (I, J) = (9, 57), 1-based, and the maximum of every row of Kwav.
+ANTONI_BEST_CELL = (9, 57)
+ANTONI_FC, ANTONI_BW, ANTONI_KMAX = 3125.0, 416.66666666666669, 1.5714369037892317
+ANTONI_ROW_MAX = [
+    0.0, 0.07927944531731956, 0.2978342699173484, 0.1197366792955914,
+    0.751002458483947, 0.7819294184292427, 1.358418525495122, 1.3848924360995438,
+    1.5714369037892317, 1.2903900352748008, 1.0868631999472123, 0.8313152913105615,
+]  # fmt: skip
+
+
+def test_kurtogram_reproduces_antonis_matlab_code():
+    kg = kurtogram(_logistic_test_signal(), FS, nlevel=6)
+    assert (kg.row + 1, kg.column + 1) == ANTONI_BEST_CELL
+    assert kg.fc == pytest.approx(ANTONI_FC, rel=1e-12)
+    assert kg.bw == pytest.approx(ANTONI_BW, rel=1e-12)
+    assert kg.kurtosis == pytest.approx(ANTONI_KMAX, abs=1e-10)
+    np.testing.assert_allclose(kg.K.max(axis=1), ANTONI_ROW_MAX, rtol=0, atol=1e-10)
+
+
 def test_reference_formula_for_best_band_centre():
     # fi = (J - 1)/3/2**(nlevel+1) + 2**(-2-level) with J the 1-based first column.
     x = _impacts(2**14, rate=20.0, seed=7)
