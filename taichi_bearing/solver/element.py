@@ -23,6 +23,7 @@ __all__ = [
     "ElementGeometry",
     "critical_time_steps",
     "element_geometry",
+    "element_max_frequencies",
     "element_stiffness",
     "hourglass_stiffness",
 ]
@@ -127,30 +128,32 @@ def element_stiffness(
     return K
 
 
-def critical_time_steps(
+def element_max_frequencies(
     geo: ElementGeometry,
     lam: np.ndarray,
     mu: np.ndarray,
     rho: np.ndarray,
     khg: np.ndarray,
     thickness: float,
-    damping_beta: float = 0.0,
 ) -> np.ndarray:
-    """Stable central-difference step of each element, s.
+    """Highest angular frequency ``omega_e`` of each element alone with its lumped mass.
 
-    ``2 / omega_e`` with ``omega_e`` the highest frequency of the element alone with its
-    lumped mass; by the element eigenvalue theorem no mesh frequency exceeds the largest
-    ``omega_e``. For a square of side L this is ``0.707 L / c``, the familiar
+    By the element eigenvalue theorem no frequency of the assembled mesh exceeds the
+    largest ``omega_e``. For a square of side L, ``2 / omega_e = 0.707 L / c``: the familiar
     characteristic length (area / longest diagonal) over the dilatational wave speed.
-    Stiffness-proportional damping ``beta`` lowers the step by
-    ``sqrt(1 + zeta^2) - zeta`` with ``zeta = beta omega_e / 2``.
     """
     K = element_stiffness(geo, lam, mu, khg, thickness)
     m = np.repeat(geo.shape_integrals * (rho * thickness)[:, None], 2, axis=1)  # (ne, 8)
     s = 1.0 / np.sqrt(m)
     A = K * s[:, :, None] * s[:, None, :]
-    omega = np.sqrt(np.maximum(np.linalg.eigvalsh(A)[:, -1], 0.0))
-    zeta = 0.5 * damping_beta * omega
+    return np.sqrt(np.maximum(np.linalg.eigvalsh(A)[:, -1], 0.0))
+
+
+def critical_time_steps(omega: np.ndarray, beta: np.ndarray | float = 0.0) -> np.ndarray:
+    """Stable central-difference step of each element, s: ``2 / omega_e``, lowered by
+    stiffness-proportional damping ``beta`` by ``sqrt(1 + zeta^2) - zeta``,
+    ``zeta = beta omega_e / 2``."""
+    zeta = 0.5 * np.asarray(beta) * omega
     return 2.0 / omega * (np.sqrt(1.0 + zeta**2) - zeta)
 
 

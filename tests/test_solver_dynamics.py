@@ -5,11 +5,11 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from taichi_bearing.mesh.primitives import annulus_mesh, rectangle_mesh
+from taichi_bearing.mesh.primitives import annulus_mesh, disk_mesh, rectangle_mesh
 from taichi_bearing.solver.backend import init_taichi
-from taichi_bearing.solver.loads import HeldDirection, line_load
+from taichi_bearing.solver.loads import HeldDirection, RigidVelocity, line_load
 from taichi_bearing.solver.materials import Material
-from taichi_bearing.solver.model import Model
+from taichi_bearing.solver.model import Model, StiffnessDamping
 
 STEEL = Material(E=210e9, nu=0.3, rho=7850.0)
 
@@ -119,3 +119,53 @@ def test_energy_drift_undamped_vibrating_ring_below_half_percent():
     assert strain_peak > 0.05 * e0  # the ring really vibrates (energy goes into strain)
     print(f"energy drift over 1e4 steps: {drift:.2e}")
     assert drift < 5e-3
+
+
+def test_stiffness_damping_gives_its_ratio_at_its_frequency():
+    length = 0.02
+    mesh = rectangle_mesh(length, 0.001, 20, 1)
+    X = mesh.nodes
+    c = STEEL.wave_speed
+    f1 = c / (2 * length)  # first free-free longitudinal mode (uniaxial strain)
+    zeta = 0.02
+    model = Model(
+        mesh,
+        STEEL,
+        constraints=[HeldDirection(np.arange(mesh.n_nodes), (0.0, 1.0))],
+        damping=StiffnessDamping(zeta, f1),
+        sensors={"end": 0},
+    )
+    assert 0 < model.damping_step_factor < 1
+    model.set_state(v=np.stack([1e-3 * np.cos(np.pi * X[:, 0] / length), 0 * X[:, 0]], 1))
+    model.advance(1)
+    model.take_sensor_means(1)
+    half = 0.5 / f1 / model.dt
+    n = int(10.5 * half)
+    u = np.empty(n)
+    for k in range(n):
+        model.advance(1)
+        u[k] = model.take_sensor_means(1)[0, 0]
+    # Peaks of |u| half a period apart decay by exp(-pi zeta / sqrt(1 - zeta^2)).
+    peaks = [np.max(np.abs(u[int(j * half) : int((j + 1) * half)])) for j in range(10)]
+    zeta_measured = np.log(peaks[0] / peaks[9]) / 9 / np.pi
+    print(f"damping ratio at f1: measured {zeta_measured:.5f}, target {zeta}")
+    assert zeta_measured == pytest.approx(zeta, rel=0.05)
+    assert model.energies()["damping"] > 0
+
+
+def test_stiffness_damping_does_not_brake_spin():
+    radius = 0.01
+    mesh = disk_mesh(radius, 12)
+    spin = 1e-3 * STEEL.wave_speed / radius
+    damping = StiffnessDamping(0.05, STEEL.wave_speed / radius)
+    model = Model(
+        mesh, STEEL, damping=damping, initial_velocities=[RigidVelocity("disk", omega=spin)]
+    )
+    model.advance(1, record_last=True)
+    ke0 = model.energies()["kinetic"]
+    model.advance(int(np.pi / spin / model.dt), record_last=True)  # half a turn
+    e = model.energies()
+    # Only the small centrifugal stretching vibration (~(omega R / c)^2 of KE) is damped.
+    print(f"spin with damping: dissipated {e['damping'] / ke0:.2e} of KE")
+    assert e["damping"] < 1e-5 * ke0
+    assert abs(e["kinetic"] / ke0 - 1) < 1e-5
