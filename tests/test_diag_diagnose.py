@@ -106,11 +106,31 @@ def test_healthy_confounders_are_not_faults():
     assert outer.n_significant == 1
 
 
+def test_smooth_ball_pass_modulation_is_significant_but_not_a_fault():
+    """Every loaded bearing modulates its noise a little at the ball pass rate (varying
+    compliance). Over a long record a few-percent modulation at BPFO and 2 BPFO is
+    statistically significant, but far below the tens of percent of a localised fault (50 to
+    120 % on the CWRU outer-race records): no fault."""
+    fs = 24000.0
+    rng = np.random.default_rng(11)
+    t = np.arange(int(10.0 * fs)) / fs
+    w = 2 * np.pi * FREQS.bpfo
+    # (1 + a cos) on the amplitude is about 2a on the squared envelope (before whitening)
+    x = rng.standard_normal(t.size) * (1.0 + 0.025 * np.cos(w * t) + 0.025 * np.cos(2 * w * t))
+    d = diagnose(x, fs, GEOMETRY, SHAFT_HZ)
+    outer = d.families["outer"]
+    assert outer.pair_p < 1e-10  # the lines are there, beyond doubt
+    assert 0.02 < outer.modulation[0] < 0.05
+    assert not outer.detected and d.fault == "none"
+    # With the effect-size floor lowered below the modulation, the record reads as a fault.
+    assert diagnose(x, fs, GEOMETRY, SHAFT_HZ, min_modulation=0.02).fault == "outer"
+
+
 def test_normalised_envelope_spectrum_of_noise_is_unit_exponential():
     # The detection thresholds assume background-normalised SES bins ~ Exp(1).
     fs = 12000.0
     x = prewhiten(np.random.default_rng(3).standard_normal(int(10 * fs)), fs)
-    f, z = normalised_envelope_spectrum(x, fs, None, f_max=1000.0, half_window_hz=10.0)
+    f, z, _ = normalised_envelope_spectrum(x, fs, None, f_max=1000.0, half_window_hz=10.0)
     z = z[f > 20.0]
     assert np.mean(z) == pytest.approx(1.0, abs=0.05)
     assert np.mean(z > 4.0) == pytest.approx(math.exp(-4.0), rel=0.25)
@@ -167,6 +187,12 @@ def test_cwru_verdicts(cwru_records, key):
         assert family.found_hz == pytest.approx(family.expected_hz, rel=0.02)
         assert family.n_significant >= 3
         assert d.confidence > 0.8
+        # Far above the effect-size floor (5 %): a localised fault modulates deeply.
+        assert family.modulation.max() > 0.25
+    else:
+        # The baseline's whole-band squared envelope is modulated by less than the floor.
+        for s in d.bands[0].families.values():
+            assert s.modulation.max() < 0.05
 
 
 def test_cwru_ball_fault_is_not_called_a_race_fault(cwru_records):
