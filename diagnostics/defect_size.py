@@ -155,8 +155,8 @@ def _exit_times(env: np.ndarray, fs: float, period_s: float, rise_s: float) -> n
     Behind a zero-phase band an impact whose response in the band is short gives an envelope
     pulse centred on the impact, and one that rings long gives a smoothed step whose
     steepest point is the impact. The estimate therefore moves from the steepest point of the
-    rising edge towards the peak by the ratio of the burst's rise to its fall (each measured
-    at half height): 1 for a symmetric pulse, near 0 for a long ring.
+    rising edge towards the peak by the square of the ratio of the burst's rise to its fall
+    (each measured at half height): 1 for a symmetric pulse, near 0 for a long ring.
     """
     peaks, props = signal.find_peaks(env, distance=max(int(0.6 * period_s * fs), 1), height=0.0)
     if peaks.size == 0:
@@ -241,7 +241,8 @@ def estimate_defect_size(
         Low-pass cut-off (Hz) for the de-stressing steps; default half the exit band's
         lower edge.
     max_separation : float
-        Longest entry-to-exit time sought, as a fraction of the passage period.
+        Longest entry-to-exit time sought, as a fraction of the passage period. The shortest
+        is one period of ``entry_cutoff_hz``: a smaller spall needs a higher cut-off.
 
     Returns
     -------
