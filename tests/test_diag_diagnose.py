@@ -77,6 +77,17 @@ def test_synthetic_inner_race(fs):
     assert d.families["inner"].n_sidebands_significant >= 2
 
 
+def test_synthetic_rolling_element():
+    # A ball defect strikes both races once per spin turn (2 x BSF) and goes round with
+    # the cage through the load zone: amplitude modulated at the cage rate.
+    true_rate = 1.005 * 2.0 * FREQS.bsf
+    x = fault_signal(12000.0, true_rate, 3500.0, mod_hz=FREQS.ftf, mod_depth=0.7, seed=2)
+    d = diagnose(x, 12000.0, GEOMETRY, SHAFT_HZ)
+    assert d.fault == "ball"
+    assert d.families["ball"].found_hz == pytest.approx(true_rate, rel=2e-3)
+    assert d.families["ball"].n_sidebands_significant >= 2
+
+
 @pytest.mark.parametrize("seed", range(4))
 @pytest.mark.parametrize("fs", [12000.0, 48000.0])
 def test_gaussian_noise_is_healthy(fs, seed):
