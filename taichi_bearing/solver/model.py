@@ -43,7 +43,6 @@ __all__ = ["ForceContributor", "Model", "StiffnessDamping"]
 _FIXED, _HELD, _ROT = 1, 2, 4
 # Below this many elements a block of steps runs as one serial kernel (launch-bound regime).
 SERIAL_MAX_ELEMENTS = 3000
-_CHUNK = 64  # elements or nodes per iteration of a parallel loop
 
 
 class ForceContributor(Protocol):
@@ -476,30 +475,32 @@ class Model:
         )
 
     @ti.func
-    def _element_loop(self, dt, damped, rec):
-        # Chunks of elements per parallel iteration: the per-iteration cost of a Taichi
-        # CPU parallel loop is otherwise comparable to one element's work.
-        for blk in range((self.n_elements + _CHUNK - 1) // _CHUNK):
-            for e in range(blk * _CHUNK, ti.min((blk + 1) * _CHUNK, self.n_elements)):
-                self._element(e, dt, damped, rec)
+    def _element_loop(self, dt, damped, rec, serial):
+        ti.loop_config(serialize=serial)
+        for e in range(self.n_elements):
+            self._element(e, dt, damped, rec)
 
     @ti.func
-    def _node_loops(self, t_load, t_rot, dt, dt_v, first, c_mass, rec):
-        # Inlined at kernel top level, so each loop is its own parallel task.
+    def _node_loops(self, t_load, t_rot, dt, dt_v, first, c_mass, rec, serial):
+        # Inlined at kernel top level, so each loop is its own task; small meshes run them
+        # on the calling thread (a thread-pool dispatch costs more than the work).
         ti.loop_config(serialize=True)  # loads: few entries, fixed order (reproducible)
         for _ in range(1):
             self._apply_loads(t_load)
-        for blk in range((self.n_nodes + _CHUNK - 1) // _CHUNK):
-            for i in range(blk * _CHUNK, ti.min((blk + 1) * _CHUNK, self.n_nodes)):
-                self._node(i, t_rot, dt, dt_v, first, c_mass, rec)
+        ti.loop_config(serialize=serial)
+        for i in range(self.n_nodes):
+            self._node(i, t_rot, dt, dt_v, first, c_mass, rec)
+        ti.loop_config(serialize=True)
         for s in range(self.n_sensor):
             self._sensor(s, dt, dt_v, first)
 
     # ------------------------------------------------------------------ kernels
 
     @ti.kernel
-    def _k_elements(self, dt: ti.f64, damped: ti.i32, rec: ti.i32):
-        self._element_loop(dt, damped, rec)
+    def _k_elements(
+        self, dt: ti.f64, damped: ti.template(), rec: ti.template(), serial: ti.template()
+    ):
+        self._element_loop(dt, damped, rec, serial)
 
     @ti.kernel
     def _k_nodes(
@@ -510,9 +511,10 @@ class Model:
         dt_v: ti.f64,
         first: ti.i32,
         c_mass: ti.f64,
-        rec: ti.i32,
+        rec: ti.template(),
+        serial: ti.template(),
     ):
-        self._node_loops(t_load, t_rot, dt, dt_v, first, c_mass, rec)
+        self._node_loops(t_load, t_rot, dt, dt_v, first, c_mass, rec, serial)
 
     @ti.kernel
     def _k_step(
@@ -523,11 +525,12 @@ class Model:
         dt_v: ti.f64,
         first: ti.i32,
         c_mass: ti.f64,
-        rec: ti.i32,
-        damped: ti.i32,
+        rec: ti.template(),
+        damped: ti.template(),
+        serial: ti.template(),
     ):
-        self._element_loop(dt, damped, rec)
-        self._node_loops(t_load, t_rot, dt, dt_v, first, c_mass, rec)
+        self._element_loop(dt, damped, rec, serial)
+        self._node_loops(t_load, t_rot, dt, dt_v, first, c_mass, rec, serial)
 
     @ti.kernel
     def _k_steps_serial(
@@ -538,7 +541,7 @@ class Model:
         first0: ti.i32,
         c_mass: ti.f64,
         rec_last: ti.i32,
-        damped: ti.i32,
+        damped: ti.template(),
         relax: ti.i32,
     ):
         ti.loop_config(serialize=True)
@@ -618,7 +621,9 @@ class Model:
             Store energies, ``v_int`` and Jacobians of the last step for :meth:`energies`.
         serial : bool, optional
             Run all ``n`` steps in one serial kernel (default: when the mesh is small and
-            there are no contributors).
+            there are no contributors). Otherwise each step is one or two kernel launches
+            (plus the contributors'), with loops run in parallel on meshes above
+            ``SERIAL_MAX_ELEMENTS`` elements.
         relax_damping : float, optional
             Dynamic relaxation: mass-damping coefficient c (1/s); loads at full value,
             prescribed rotations held at angle 0, time not advanced.
@@ -648,6 +653,7 @@ class Model:
                 self.step_count += n
             return
         step = self._k_step if not self.contributors else None
+        small = self.n_elements <= SERIAL_MAX_ELEMENTS
         for k in range(n):
             t = self.step_count * dt
             first = int(self.first)
@@ -655,12 +661,12 @@ class Model:
             rec = int(record_last and k == n - 1)
             t_load, t_rot = (1e300, 0.0) if relax else (t, t + dt)
             if step is not None:
-                step(t_load, t_rot, dt, dt_v, first, c_mass, rec, damped)
+                step(t_load, t_rot, dt, dt_v, first, c_mass, rec, damped, small)
             else:
-                self._k_elements(dt, damped, rec)
+                self._k_elements(dt, damped, rec, small)
                 for c in self.contributors:
                     c.add_forces(self, t)
-                self._k_nodes(t_load, t_rot, dt, dt_v, first, c_mass, rec)
+                self._k_nodes(t_load, t_rot, dt, dt_v, first, c_mass, rec, small)
             self.first = False
             if not relax:
                 self.step_count += 1
