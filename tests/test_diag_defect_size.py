@@ -107,6 +107,16 @@ def test_synthetic_shallow_spall_with_depth():
     assert deep.length_m > 1.2 * length
 
 
+def test_short_simulated_record_with_few_passages():
+    # A simulation may cover only a few passages; three are enough for a size.
+    fs, length = 200000.0, 3.0e-3
+    separation = 0.5 * length / contact_speed(GEOMETRY, SHAFT_HZ)
+    x, exits = spall_record(fs, separation, duration_s=0.05, noise=0.02)
+    result = estimate_defect_size(x, fs, GEOMETRY, SHAFT_HZ)
+    assert result.events.shape[0] == exits.size == 3
+    assert result.length_m == pytest.approx(length, rel=0.05)
+
+
 def test_inner_race_uses_bpfi_and_inner_speed():
     fs, length = 96000.0, 3.0e-3
     f = bearing_frequencies(GEOMETRY, SHAFT_HZ)
@@ -121,7 +131,9 @@ def test_bad_arguments_raise():
     with pytest.raises(ValueError, match="race"):
         estimate_defect_size(x, 48000.0, GEOMETRY, SHAFT_HZ, race="cage")
     with pytest.raises(ValueError, match="too short"):
-        estimate_defect_size(x[:500], 48000.0, GEOMETRY, SHAFT_HZ)
+        estimate_defect_size(x[:200], 48000.0, GEOMETRY, SHAFT_HZ)
+    with pytest.raises(ValueError, match="no complete spall passage"):
+        estimate_defect_size(x, 48000.0, GEOMETRY, SHAFT_HZ)  # noise: no impacts
     with pytest.raises(ValueError, match="exit_band"):
         estimate_defect_size(x, 48000.0, GEOMETRY, SHAFT_HZ, exit_band=(30000.0, 20000.0))
     with pytest.raises(ValueError, match="geometry"):
