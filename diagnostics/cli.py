@@ -122,6 +122,21 @@ def _impact_times(x, fs: float, band: tuple[float, float], rate_hz: float) -> np
     return peaks[keep] / fs
 
 
+def _markers(d: Diagnosis) -> dict[str, float]:
+    """Comb fundamentals to mark: where a family was detected, the frequency found (slip
+    included), else the kinematic one."""
+    labels = {"outer": "BPFO", "inner": "BPFI", "ball": "2xBSF"}
+    out = {}
+    for family, label in labels.items():
+        s = d.families.get(family)
+        if s is None:
+            continue
+        out[label if not s.detected else f"{label} (found)"] = (
+            s.found_hz if s.detected else s.expected_hz
+        )
+    return out
+
+
 def _save(fig, path: Path) -> str:
     with atomic_path(path) as tmp:
         fig.savefig(tmp, format="png", dpi=110)
@@ -147,7 +162,7 @@ def _figures(x, fs: float, d: Diagnosis, notch: list[float], raw, out: Path) -> 
             plots.plot_envelope_spectrum(
                 best.f,
                 best.z,
-                freqs,
+                _markers(d),
                 title=f"Squared envelope spectrum, band {best.band[0]:.0f}-"
                 f"{best.band[1]:.0f} Hz ({best.name})",
                 ylabel="power / local background",

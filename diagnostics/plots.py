@@ -199,7 +199,7 @@ def plot_envelope_spectrum(
     if shown.any() and np.max(amplitude[shown]) > 0:
         ax.set_ylim(0.0, 1.05 * np.max(amplitude[shown]))
     for i, (name, f0) in enumerate(markers.items()):
-        colour = _FAMILY_COLOURS.get(name, _EVENT_COLOURS[i % len(_EVENT_COLOURS)])
+        colour = _FAMILY_COLOURS.get(name.split()[0], _EVENT_COLOURS[i % len(_EVENT_COLOURS)])
         for k in range(1, n_harmonics + 1):
             if k * f0 <= f_max:
                 ax.axvline(k * f0, color=colour, lw=0.8, ls="--", label=name if k == 1 else None)
