@@ -519,7 +519,7 @@ def diagnose(
     nlevel : int
         Depth of the fast kurtogram (reduced for a record too short for it).
     use_kurtogram : bool
-        Add the kurtogram's best bands to the whole prewhitened band.
+        Add the kurtogram's best band to the whole prewhitened band.
 
     Returns
     -------
