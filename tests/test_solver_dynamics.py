@@ -151,6 +151,11 @@ def test_stiffness_damping_gives_its_ratio_at_its_frequency():
     print(f"damping ratio at f1: measured {zeta_measured:.5f}, target {zeta}")
     assert zeta_measured == pytest.approx(zeta, rel=0.05)
     assert model.energies()["damping"] > 0
+    # Without a cap the fine elements' own modes are damped at zeta_e > 0.1, which
+    # shortens the step; a cap of 0.1 bounds the cost to sqrt(1 + 0.1^2) - 0.1.
+    capped = Model(mesh, STEEL, damping=StiffnessDamping(zeta, f1, max_element_ratio=0.1))
+    assert capped.damping_step_factor == pytest.approx(np.sqrt(1.01) - 0.1, rel=1e-9)
+    assert model.damping_step_factor < capped.damping_step_factor
 
 
 def test_stiffness_damping_does_not_brake_spin():

@@ -23,6 +23,7 @@ import numpy as np
 import taichi as ti
 
 from taichi_bearing.mesh.types import Mesh
+from taichi_bearing.solver.backend import current_arch
 from taichi_bearing.solver.element import (
     critical_time_steps,
     element_geometry,
@@ -159,6 +160,9 @@ class Model:
         sensors: Mapping[str, int] | None = None,
         dt_factor: float = 0.9,
     ) -> None:
+        if current_arch() is None:
+            # Otherwise Taichi would start itself on a default arch with f32.
+            raise RuntimeError("call taichi_bearing.solver.init_taichi() before building a Model")
         if not thickness > 0:
             raise ValueError(f"thickness must be positive, got {thickness!r}")
         self.mesh = mesh
