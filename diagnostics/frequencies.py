@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from numbers import Real
 
 __all__ = ["BearingGeometry", "FaultFrequencies", "bearing_frequencies"]
 
@@ -44,8 +45,10 @@ class BearingGeometry:
             raise ValueError(f"n_rollers must be a positive integer, got {self.n_rollers!r}")
         for name in ("roller_diameter", "pitch_diameter"):
             value = getattr(self, name)
-            if not (isinstance(value, (int, float)) and math.isfinite(value) and value > 0):
-                raise ValueError(f"{name} must be a positive finite length in metres, got {value!r}")
+            if not (isinstance(value, Real) and math.isfinite(value) and value > 0):
+                raise ValueError(
+                    f"{name} must be a positive finite length in metres, got {value!r}"
+                )
         if self.roller_diameter >= self.pitch_diameter:
             raise ValueError(
                 f"roller_diameter ({self.roller_diameter} m) must be smaller than "
@@ -107,7 +110,7 @@ def bearing_frequencies(geometry: BearingGeometry, shaft_hz: float) -> FaultFreq
     >>> round(bearing_frequencies(g, 1.0).bpfo, 3)
     3.585
     """
-    if not (isinstance(shaft_hz, (int, float)) and math.isfinite(shaft_hz) and shaft_hz > 0):
+    if not (isinstance(shaft_hz, Real) and math.isfinite(shaft_hz) and shaft_hz > 0):
         raise ValueError(f"shaft_hz must be a positive finite frequency, got {shaft_hz!r}")
     ratio = geometry.diameter_ratio
     n = geometry.n_rollers
