@@ -8,7 +8,7 @@ import taichi as ti
 
 from taichi_bearing.errors import InputError
 
-__all__ = ["ARCHS", "current_arch", "init_taichi"]
+__all__ = ["ARCHS", "current_arch", "current_threads", "init_taichi"]
 
 ARCHS = {"cpu": ti.cpu, "cuda": ti.cuda, "vulkan": ti.vulkan}
 
@@ -19,6 +19,13 @@ _active: tuple[str, int | None] | None = None
 def current_arch() -> str | None:
     """Name of the arch init_taichi started in this process (None before any call)."""
     return None if _active is None else _active[0]
+
+
+def current_threads() -> int:
+    """CPU threads of the live runtime (all cores when none were requested)."""
+    if _active is None or _active[1] is None:
+        return os.cpu_count() or 1
+    return _active[1]
 
 
 def init_taichi(

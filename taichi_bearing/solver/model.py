@@ -23,7 +23,7 @@ import numpy as np
 import taichi as ti
 
 from taichi_bearing.mesh.types import Mesh
-from taichi_bearing.solver.backend import current_arch
+from taichi_bearing.solver.backend import current_arch, current_threads
 from taichi_bearing.solver.element import (
     critical_time_steps,
     element_geometry,
@@ -369,28 +369,28 @@ class Model:
         return th
 
     @ti.func
-    def _element(self, e, dt, damped, rec):
+    def _element(self, e, dt, damped: ti.template(), rec):
         c = self.conn[e]
         bx, by, g = self.bx[e], self.by[e], self.gam[e]
         F = ti.Matrix.zero(ti.f64, 2, 2)
-        Fd = ti.Matrix.zero(ti.f64, 2, 2)
         q = ti.Vector.zero(ti.f64, 2)
-        qd = ti.Vector.zero(ti.f64, 2)
         for k in ti.static(range(4)):
             xk = self.x[c[k]]
-            vk = self.v[c[k]]
-            bk = ti.Vector([bx[k], by[k]])
-            F += xk.outer_product(bk)
-            Fd += vk.outer_product(bk)
+            F += xk.outer_product(ti.Vector([bx[k], by[k]]))
             q += g[k] * xk
-            qd += g[k] * vk
         lam, mu = self.lam[e], self.mu[e]
         at, k_hg = self.at[e], self.khg[e]
         E = 0.5 * (F.transpose() @ F - ti.Matrix.identity(ti.f64, 2))
         tr_e = E[0, 0] + E[1, 1]
         S = lam * tr_e * ti.Matrix.identity(ti.f64, 2) + 2.0 * mu * E
         fq = -k_hg * q
-        if damped != 0:
+        if ti.static(damped):
+            Fd = ti.Matrix.zero(ti.f64, 2, 2)
+            qd = ti.Vector.zero(ti.f64, 2)
+            for k in ti.static(range(4)):
+                vk = self.v[c[k]]
+                Fd += vk.outer_product(ti.Vector([bx[k], by[k]]))
+                qd += g[k] * vk
             beta = self.beta_e[e]
             # Green strain rate: zero for any rigid motion, so spin is not damped.
             Ed = 0.5 * (F.transpose() @ Fd + Fd.transpose() @ F)
@@ -450,6 +450,7 @@ class Model:
             xn = self.X[i]
             vn = ti.Vector.zero(ti.f64, 2)
         an = (vn - vo) / dt_v
+        # Non-elastic force on the node: loads, reactions, contributors.
         fo = m * an - f_int
         if first == 0:
             # Trapezoidal work over [t_{n-1}, t_n]: x^n - x^{n-1} = dt v^{n-1/2}.
@@ -479,13 +480,13 @@ class Model:
         )
 
     @ti.func
-    def _element_loop(self, dt, damped, rec, serial):
+    def _element_loop(self, dt, damped: ti.template(), rec, serial: ti.template()):
         ti.loop_config(serialize=serial)
         for e in range(self.n_elements):
             self._element(e, dt, damped, rec)
 
     @ti.func
-    def _node_loops(self, t_load, t_rot, dt, dt_v, first, c_mass, rec, serial):
+    def _node_loops(self, t_load, t_rot, dt, dt_v, first, c_mass, rec, serial: ti.template()):
         # Inlined at kernel top level, so each loop is its own task; small meshes run them
         # on the calling thread (a thread-pool dispatch costs more than the work).
         ti.loop_config(serialize=True)  # loads: few entries, fixed order (reproducible)
@@ -627,7 +628,7 @@ class Model:
             Run all ``n`` steps in one serial kernel (default: when the mesh is small and
             there are no contributors). Otherwise each step is one or two kernel launches
             (plus the contributors'), with loops run in parallel on meshes above
-            ``SERIAL_MAX_ELEMENTS`` elements.
+            ``SERIAL_MAX_ELEMENTS`` elements when Taichi has more than one thread.
         relax_damping : float, optional
             Dynamic relaxation: mass-damping coefficient c (1/s); loads at full value,
             prescribed rotations held at angle 0, time not advanced.
@@ -657,7 +658,9 @@ class Model:
                 self.step_count += n
             return
         step = self._k_step if not self.contributors else None
-        small = self.n_elements <= SERIAL_MAX_ELEMENTS
+        # Serial loops on one thread or small meshes: a Taichi CPU parallel loop costs
+        # ~20 % more per element than a plain loop, and a thread-pool dispatch per loop.
+        small = self.n_elements <= SERIAL_MAX_ELEMENTS or current_threads() == 1
         for k in range(n):
             t = self.step_count * dt
             first = int(self.first)
