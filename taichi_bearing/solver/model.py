@@ -369,15 +369,21 @@ class Model:
         return th
 
     @ti.func
+    def _gradient(self, field: ti.template(), c, bx, by, g):
+        """Mean gradient sum_I y_I (x) b_I and hourglass sum_I gamma_I y_I of a node field."""
+        G = ti.Matrix.zero(ti.f64, 2, 2)
+        h = ti.Vector.zero(ti.f64, 2)
+        for k in ti.static(range(4)):
+            yk = field[c[k]]
+            G += yk.outer_product(ti.Vector([bx[k], by[k]]))
+            h += g[k] * yk
+        return G, h
+
+    @ti.func
     def _element(self, e, dt, damped: ti.template(), rec):
         c = self.conn[e]
         bx, by, g = self.bx[e], self.by[e], self.gam[e]
-        F = ti.Matrix.zero(ti.f64, 2, 2)
-        q = ti.Vector.zero(ti.f64, 2)
-        for k in ti.static(range(4)):
-            xk = self.x[c[k]]
-            F += xk.outer_product(ti.Vector([bx[k], by[k]]))
-            q += g[k] * xk
+        F, q = self._gradient(self.x, c, bx, by, g)
         lam, mu = self.lam[e], self.mu[e]
         at, k_hg = self.at[e], self.khg[e]
         E = 0.5 * (F.transpose() @ F - ti.Matrix.identity(ti.f64, 2))
@@ -385,12 +391,7 @@ class Model:
         S = lam * tr_e * ti.Matrix.identity(ti.f64, 2) + 2.0 * mu * E
         fq = -k_hg * q
         if ti.static(damped):
-            Fd = ti.Matrix.zero(ti.f64, 2, 2)
-            qd = ti.Vector.zero(ti.f64, 2)
-            for k in ti.static(range(4)):
-                vk = self.v[c[k]]
-                Fd += vk.outer_product(ti.Vector([bx[k], by[k]]))
-                qd += g[k] * vk
+            Fd, qd = self._gradient(self.v, c, bx, by, g)
             beta = self.beta_e[e]
             # Green strain rate: zero for any rigid motion, so spin is not damped.
             Ed = 0.5 * (F.transpose() @ Fd + Fd.transpose() @ F)
