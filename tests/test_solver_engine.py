@@ -7,11 +7,12 @@ import pytest
 import taichi as ti
 
 from taichi_bearing.errors import SimulationError
-from taichi_bearing.mesh.primitives import annulus_mesh, disk_mesh
+from taichi_bearing.mesh.primitives import annulus_mesh, disk_mesh, rectangle_mesh
 from taichi_bearing.output.histories import read_histories
 from taichi_bearing.solver.backend import init_taichi
 from taichi_bearing.solver.engine import RunConfig, run_transient
 from taichi_bearing.solver.loads import (
+    FixedNodes,
     PrescribedRotation,
     RigidVelocity,
     rotation_angle,
@@ -170,3 +171,19 @@ def test_force_contributor_is_called_every_step_and_its_work_is_counted():
     assert np.allclose(res.column("c_ay"), g[1], atol=1e-4)  # round-off stress, as above
     ke = res.column("energy_kinetic")[-1]
     assert res.column("energy_external_work")[-1] == pytest.approx(ke, rel=1e-9)
+
+
+def test_inverted_element_stops_the_run_naming_the_element():
+    mesh = rectangle_mesh(0.1, 0.01, 20, 2)
+    X = mesh.nodes
+    corner = int(np.argmax(X[:, 0] + X[:, 1]))
+    model = Model(
+        mesh,
+        STEEL,
+        constraints=[FixedNodes(np.flatnonzero(X[:, 0] == 0))],
+        loads=[uniform_load([corner], (0.0, -5e9))],  # crushes the corner element
+    )
+    with pytest.raises(SimulationError, match=r"element \d+ inverted") as info:
+        run_transient(model, RunConfig(duration=1e-3, sample_rate=1e6))
+    bad = int(str(info.value).split("element ")[-1].split()[0])
+    assert corner in mesh.elements[bad]
