@@ -25,6 +25,7 @@ Taichi must be initialised before :class:`Model` is built (its fields live in th
 """
 
 from taichi_bearing.solver.backend import current_arch, init_taichi
+from taichi_bearing.solver.damping import StiffnessDamping
 from taichi_bearing.solver.engine import RunConfig, RunResult, run_transient
 from taichi_bearing.solver.loads import (
     FixedNodes,
@@ -37,7 +38,7 @@ from taichi_bearing.solver.loads import (
     uniform_load,
 )
 from taichi_bearing.solver.materials import Material
-from taichi_bearing.solver.model import ForceContributor, Model, StiffnessDamping
+from taichi_bearing.solver.model import ForceContributor, Model
 from taichi_bearing.solver.relaxation import RelaxResult, relax
 
 __all__ = [

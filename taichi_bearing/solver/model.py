@@ -15,7 +15,6 @@ steps in one serial kernel (:meth:`Model.advance` chooses).
 """
 
 # No `from __future__ import annotations`: Taichi reads kernel annotations at definition.
-import math
 from collections.abc import Mapping, Sequence
 from typing import Protocol
 
@@ -24,6 +23,7 @@ import taichi as ti
 
 from taichi_bearing.mesh.types import Mesh
 from taichi_bearing.solver.backend import current_arch, current_threads
+from taichi_bearing.solver.damping import StiffnessDamping
 from taichi_bearing.solver.element import (
     critical_time_steps,
     element_geometry,
@@ -39,7 +39,7 @@ from taichi_bearing.solver.loads import (
 )
 from taichi_bearing.solver.materials import Material, materials_per_element
 
-__all__ = ["ForceContributor", "Model", "StiffnessDamping"]
+__all__ = ["ForceContributor", "Model", "StiffnessDamping"]  # StiffnessDamping: re-export
 
 _FIXED, _HELD, _ROT = 1, 2, 4
 # Below this many elements a block of steps runs as one serial kernel (launch-bound regime).
@@ -51,53 +51,12 @@ class ForceContributor(Protocol):
 
     ``add_forces(model, t)`` is called after the element forces of step n and before the
     velocity update; it reads ``model.x`` / ``model.v`` (positions at ``t``, velocities at
-    ``t - dt/2``) and adds forces (N) into ``model.f_extra`` (atomic adds are fine).
+    ``t - dt/2``) and adds forces (N) into ``model.f_extra``. Atomic adds work, but their
+    order varies between runs on several threads; for bit-reproducible runs (and resume)
+    gather per node in a fixed order as the element forces do.
     """
 
     def add_forces(self, model: "Model", t: float) -> None: ...
-
-
-class StiffnessDamping:
-    """Stiffness-proportional damping ``C = beta K`` with ``beta = 2 zeta / omega``.
-
-    It acts on the strain rate only (Green strain rate, hourglass rate), so rigid-body
-    motion, spin included, is not braked. It shortens the stable step by
-    ``sqrt(1 + zeta_e^2) - zeta_e``, ``zeta_e = beta omega_e / 2`` at the highest element
-    frequency ``omega_e``: 0.02 at 20 kHz on 0.5 mm steel elements costs a factor ~9.
-
-    Parameters
-    ----------
-    ratio : float
-        Fraction of critical damping ``zeta`` at ``frequency_hz``.
-    frequency_hz : float
-        Frequency where the ratio holds; higher modes get more, lower modes less.
-    max_element_ratio : float, optional
-        Cap on ``zeta_e``: elements whose own highest frequency would be damped more get a
-        smaller ``beta`` (their modes far above ``frequency_hz`` are damped less than the
-        pure law says), which bounds the step cost (0.5: factor 0.62, 1: 0.41).
-    """
-
-    def __init__(
-        self, ratio: float, frequency_hz: float, max_element_ratio: float | None = None
-    ) -> None:
-        if ratio < 0 or not frequency_hz > 0:
-            raise ValueError("damping: ratio must be >= 0 and frequency_hz > 0")
-        if max_element_ratio is not None and not max_element_ratio > 0:
-            raise ValueError("damping: max_element_ratio must be positive")
-        self.ratio = float(ratio)
-        self.frequency_hz = float(frequency_hz)
-        self.max_element_ratio = max_element_ratio
-
-    @property
-    def beta(self) -> float:
-        return 2.0 * self.ratio / (2.0 * math.pi * self.frequency_hz)
-
-    def element_beta(self, omega: np.ndarray) -> np.ndarray:
-        """``beta`` of each element given its highest frequency ``omega`` (rad/s)."""
-        beta = np.full(omega.shape, self.beta)
-        if self.max_element_ratio is not None:
-            beta = np.minimum(beta, 2.0 * self.max_element_ratio / omega)
-        return beta
 
 
 def _adjacency(elements: np.ndarray, n_nodes: int) -> tuple[np.ndarray, np.ndarray]:
