@@ -1,0 +1,571 @@
+"""Figures of a run folder: ``make_run_figures(run_dir)`` -> ``run_dir/figures/*.png``.
+
+The signal analyses are those of :mod:`diagnostics` and its plots; this module picks the
+signal (the first sensor's radial acceleration), the marks (spall entry and exit times from
+``summary.json``) and resolutions that fit the record length, and says on each figure what
+it chose. Alongside the pictures, ``figures/figures.json`` holds each figure's caption and
+the numbers it shows, for the report.
+
+A simulated record may hold only a few milliseconds: windows and kurtogram levels are
+chosen from its length, and an analysis the record is too short for gives a figure that
+says so instead of an error.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+from collections.abc import Callable
+from pathlib import Path
+
+import numpy as np
+from matplotlib.figure import Figure
+
+from diagnostics import envelope_spectrum, kurtogram, notch_filter, psd
+from diagnostics import plots as dplots
+from diagnostics.diagnose import kurtogram_band
+from diagnostics.files import atomic_path, write_json
+from taichi_bearing.post.run_data import RunData, load_run, passage_events, sensor_acceleration
+
+__all__ = [
+    "FIGURE_NAMES",
+    "make_run_figures",
+    "notch_attenuation",
+    "choose_nperseg",
+    "choose_nlevel",
+    "choose_sk_windows",
+]
+
+FIGURE_NAMES = (
+    "acceleration",
+    "contact_forces",
+    "spectrogram",
+    "spectral_kurtosis",
+    "kurtogram",
+    "envelope_spectrum",
+    "psd_notch",
+    "third_octave",
+    "deformed_spall",
+)
+ENTRY_LABEL = "entry (de-stressing)"
+EXIT_LABEL = "exit (re-stressing)"
+NOTCH_Q = 30.0
+_ROLLER_COLOURS = ("tab:blue", "tab:orange", "tab:green", "tab:purple", "tab:brown", "tab:pink")
+
+
+# --------------------------------------------------------------------------- resolutions
+
+
+def choose_nperseg(n: int, target: int = 256, min_frames: int = 32) -> int:
+    """STFT window: ``target`` samples, or a power of two giving ``min_frames`` windows."""
+    fit = 2 ** int(math.floor(math.log2(max(n / min_frames, 16))))
+    return int(max(16, min(target, fit)))
+
+
+def choose_sk_windows(n: int, candidates=(64, 128, 256, 512, 1024), min_frames: int = 16):
+    """Spectral-kurtosis windows with at least ``min_frames`` frames; never empty."""
+    ok = [w for w in candidates if n >= min_frames * w]
+    return ok or [choose_nperseg(n, target=candidates[0], min_frames=min_frames)]
+
+
+def choose_nlevel(n: int, max_level: int = 7) -> int:
+    """Fast kurtogram levels the record allows (``2**(nlevel+7)`` samples); 0 if none."""
+    return int(max(0, min(max_level, math.floor(math.log2(max(n, 1))) - 7)))
+
+
+# --------------------------------------------------------------------------- helpers
+
+
+def _event_marks(run: RunData) -> dict[str, np.ndarray]:
+    """Entry and exit times relative to the first history row (the plots start at 0)."""
+    ev = passage_events(run.summary)
+    entries = np.array([e["entry_time_s"] for e in ev], dtype=float) - run.t0
+    exits = np.array([e["exit_time_s"] for e in ev], dtype=float) - run.t0
+    return {ENTRY_LABEL: entries[np.isfinite(entries)], EXIT_LABEL: exits[np.isfinite(exits)]}
+
+
+def _placeholder(title: str, message: str) -> Figure:
+    fig = Figure(figsize=(8.0, 3.0), layout="constrained")
+    ax = fig.add_subplot()
+    ax.set_axis_off()
+    ax.set_title(title)
+    ax.text(0.5, 0.5, message, ha="center", va="center", wrap=True)
+    return fig
+
+
+def _note(fig: Figure, text: str) -> None:
+    """A line at the bottom of the figure saying what was chosen and why."""
+    fig.supxlabel(text, fontsize="small", color="dimgray")
+
+
+def _save(fig: Figure, path: Path) -> Path:
+    with atomic_path(path) as tmp:
+        fig.savefig(tmp, format="png", dpi=110)
+    return path
+
+
+def notch_attenuation(
+    x: np.ndarray, fs: float, frequencies, Q: float = NOTCH_Q, nperseg: int = 4096
+) -> list[dict]:
+    """Attenuation (dB) of each notch at its tone, measured on Welch PSDs of the signal
+    before and after all notches.
+
+    For each frequency the PSD bin with the largest level within two bins of it is taken
+    (the tone's peak), and the attenuation is ``10 log10(before / after)`` at that bin.
+    Frequencies outside ``(0, fs/2)`` are listed with NaN and a note.
+    """
+    freqs = [float(f) for f in frequencies]
+    usable = [f for f in freqs if 0.0 < f < fs / 2.0]
+    y = np.asarray(x, dtype=float)
+    for f0 in usable:
+        y = notch_filter(y, fs, f0, Q=Q)
+    nperseg = min(nperseg, len(x))
+    f, before = psd(x, fs, nperseg=nperseg)
+    _, after = psd(y, fs, nperseg=nperseg)
+    df = f[1] - f[0]
+    out = []
+    tiny = np.finfo(float).tiny
+    for f0 in freqs:
+        if f0 not in usable:
+            out.append(
+                {
+                    "frequency_hz": f0,
+                    "peak_hz": math.nan,
+                    "before": math.nan,
+                    "after": math.nan,
+                    "attenuation_db": math.nan,
+                    "note": "outside 0..fs/2",
+                }
+            )
+            continue
+        k0 = int(round(f0 / df))
+        lo, hi = max(k0 - 2, 0), min(k0 + 3, f.size)
+        k = lo + int(np.argmax(before[lo:hi]))
+        out.append(
+            {
+                "frequency_hz": f0,
+                "peak_hz": float(f[k]),
+                "before": float(before[k]),
+                "after": float(after[k]),
+                "attenuation_db": float(10.0 * np.log10((before[k] + tiny) / (after[k] + tiny))),
+                "note": "",
+            }
+        )
+    return out
+
+
+def _noise_frequencies(summary: dict) -> list[float]:
+    raw = summary.get("noise_frequencies_predicted_hz") or []
+    if isinstance(raw, dict):
+        raw = list(raw.values())
+    out = []
+    for v in raw:
+        if isinstance(v, dict):
+            v = v.get("frequency_hz", v.get("hz"))
+        if v is not None and math.isfinite(float(v)):
+            out.append(float(v))
+    return out
+
+
+# --------------------------------------------------------------------------- figures
+
+
+def _acceleration(run: RunData, x, label, marks) -> tuple[Figure, str, dict]:
+    fig = Figure(figsize=(9.0, 6.0), layout="constrained")
+    top, bottom = fig.subplots(2, 1)
+    dplots.plot_time_trace(x, run.fs, marks, ax=top, unit="m/s^2")
+    top.set_title(f"{label}: whole record")
+    entries, exits = marks[ENTRY_LABEL], marks[EXIT_LABEL]
+    values: dict = {}
+    if entries.size and exits.size:
+        # Zoom on the first passage: the gradual entry against the burst at exit.
+        t_in, t_out = float(entries[0]), float(exits[exits >= entries[0]][0])
+        sep = max(t_out - t_in, 1.0 / run.fs)
+        a = max(int((t_in - 0.5 * sep) * run.fs), 0)
+        b = min(int((t_out + 1.0 * sep) * run.fs), x.size)
+        zoom_marks = {
+            k: v[(v >= a / run.fs) & (v <= b / run.fs)] - a / run.fs for k, v in marks.items()
+        }
+        dplots.plot_time_trace(x[a:b], run.fs, zoom_marks, ax=bottom, unit="m/s^2")
+        bottom.set_title(f"first passage, from t = {1e3 * (run.t0 + a / run.fs):.2f} ms")
+        i_in, i_out = int(t_in * run.fs), int(t_out * run.fs)
+        w = max(int(0.5 * sep * run.fs), 1)
+        entry_peak = float(np.max(np.abs(x[i_in : max(i_out - w // 4, i_in + 1)])))
+        exit_peak = float(np.max(np.abs(x[i_out : i_out + w])))
+        values = {
+            "entry_peak_m_s2": entry_peak,
+            "exit_peak_m_s2": exit_peak,
+            "exit_to_entry_ratio": exit_peak / entry_peak if entry_peak > 0 else math.nan,
+        }
+        caption = (
+            f"{label}. Dashed lines: entry (de-stressing) and exit (re-stressing) of each "
+            f"roller, from summary.json. First passage: peak |a| {entry_peak:.3g} m/s^2 "
+            f"between entry and exit, {exit_peak:.3g} m/s^2 after exit "
+            f"(ratio {values['exit_to_entry_ratio']:.3g})."
+        )
+    else:
+        bottom.set_axis_off()
+        bottom.text(0.5, 0.5, "no spall passage in summary.json events", ha="center")
+        caption = f"{label}; no spall passage recorded."
+    values["rms_m_s2"] = float(np.sqrt(np.mean(x**2)))
+    values["peak_m_s2"] = float(np.max(np.abs(x)))
+    return fig, caption, values
+
+
+def _contact_forces(run: RunData) -> tuple[Figure, str, dict]:
+    ev = passage_events(run.summary)
+    rollers = [e["roller"] for e in ev if e["roller"] is not None]
+    rollers = list(dict.fromkeys(int(r) for r in rollers))
+    hist = run.histories
+    t_ms = 1e3 * hist["time_s"].to_numpy(dtype=float)
+    if not rollers:
+        # No roller named: the ones whose outer force varies most went through the spall.
+        ranges = []
+        for j in range(run.rollers):
+            col = f"roller{j}_outer_fn"
+            if col in hist:
+                ranges.append((float(np.ptp(hist[col].to_numpy())), j))
+        rollers = [j for _, j in sorted(ranges, reverse=True)[:3]]
+    fig = Figure(figsize=(9.0, 6.5), layout="constrained")
+    axes = fig.subplots(2, 1, sharex=True)
+    values: dict = {}
+    for ax, race in zip(axes, ("outer", "inner"), strict=True):
+        for i, j in enumerate(rollers):
+            col = f"roller{j}_{race}_fn"
+            if col not in hist:
+                continue
+            colour = _ROLLER_COLOURS[i % len(_ROLLER_COLOURS)]
+            fn = hist[col].to_numpy(dtype=float) / 1e3
+            ax.plot(t_ms, fn, lw=0.8, color=colour, label=f"roller {j}")
+            for e in ev:
+                if e["roller"] is not None and int(e["roller"]) != j:
+                    continue
+                if math.isfinite(e["entry_time_s"]):
+                    ax.axvline(1e3 * e["entry_time_s"], color=colour, ls="--", lw=0.8)
+                if math.isfinite(e["exit_time_s"]):
+                    ax.axvline(1e3 * e["exit_time_s"], color=colour, ls="-", lw=0.8)
+                if e["roller"] is not None and race == "outer":
+                    values[f"roller{j}"] = _passage_numbers(t_ms / 1e3, fn * 1e3, e)
+        ax.set_ylabel(f"normal force on {race} raceway (kN)")
+        ax.set_title(f"{race} raceway")
+        ax.legend(loc="upper right", fontsize="small", ncol=2)
+    axes[-1].set_xlabel("time (ms)")
+    fig.suptitle("Contact force of each roller through the spall (dashed: entry, solid: exit)")
+    parts = []
+    for name, v in values.items():
+        parts.append(
+            f"{name}: {v['before_kN']:.3g} kN before entry, minimum {v['min_kN']:.3g} kN in "
+            f"the spall, peak {v['peak_after_exit_kN']:.3g} kN in the 1 ms after exit"
+        )
+    caption = "Normal contact force of each roller that crossed the spall. " + "; ".join(parts)
+    return fig, caption, values
+
+
+def _passage_numbers(t: np.ndarray, fn: np.ndarray, e: dict) -> dict:
+    te, tx = e["entry_time_s"], e["exit_time_s"]
+    before = fn[(t < te) & (t >= te - 5e-4)]
+    inside = fn[(t >= te) & (t < tx)]
+    after = fn[(t >= tx) & (t < tx + 1e-3)]
+    pick = lambda a, f: float(f(a)) / 1e3 if a.size else math.nan  # noqa: E731
+    return {
+        "before_kN": pick(before, np.mean),
+        "min_kN": pick(inside, np.min),
+        "peak_after_exit_kN": pick(after, np.max),
+    }
+
+
+def _spectrogram(run, x, marks):
+    nperseg = choose_nperseg(x.size)
+    fig = dplots.plot_spectrogram(x, run.fs, marks, nperseg=nperseg)
+    _note(
+        fig,
+        f"STFT window {nperseg} samples ({1e3 * nperseg / run.fs:.3g} ms, "
+        f"{run.fs / nperseg:.0f} Hz bins), chosen from the {x.size}-sample record",
+    )
+    caption = (
+        f"Spectrogram of the sensor acceleration, {nperseg}-sample windows; entry and "
+        "exit times marked."
+    )
+    return fig, caption, {"nperseg": nperseg}
+
+
+def _spectral_kurtosis(run, x):
+    nws = choose_sk_windows(x.size)
+    fig = dplots.plot_spectral_kurtosis(x, run.fs, nws=nws)
+    _note(
+        fig,
+        f"windows {', '.join(map(str, nws))} samples: those giving at least 16 frames "
+        f"in {x.size} samples",
+    )
+    return (
+        fig,
+        f"Spectral kurtosis for windows of {', '.join(map(str, nws))} samples.",
+        {"windows": nws},
+    )
+
+
+def _kurtogram(run, x):
+    nlevel = choose_nlevel(x.size)
+    if nlevel < 1:
+        msg = f"record too short for a kurtogram: {x.size} samples, need at least 256"
+        return _placeholder("Fast kurtogram", msg), msg, {"nlevel": 0}, None
+    kg = kurtogram(x, run.fs, nlevel=nlevel)
+    fig = dplots.plot_kurtogram(kg)
+    _note(fig, f"nlevel {nlevel}: the most the {x.size}-sample record allows (max 7)")
+    caption = (
+        f"Fast kurtogram, {nlevel} levels: best band {kg.band[0]:.0f}-{kg.band[1]:.0f} Hz, "
+        f"kurtosis {kg.kurtosis:.3g}."
+    )
+    return (
+        fig,
+        caption,
+        {"nlevel": nlevel, "band_hz": list(kg.band), "kurtosis": float(kg.kurtosis)},
+        kg,
+    )
+
+
+def _envelope(run, x, kg):
+    fs, bpfo = run.fs, run.bpfo_hz
+    band, how = None, ""
+    if kg is not None:
+        found = kurtogram_band(kg, min_low_hz=fs / 16.0)
+        if found is not None:
+            band, how = found[0], "the kurtogram's best band above fs/16"
+    if band is None:
+        band, how = (fs / 8.0, 0.45 * fs), "fs/8 to 0.45 fs (no kurtogram)"
+    band = (max(band[0], 1e-3 * fs), min(band[1], 0.499 * fs))
+    f, amp = envelope_spectrum(x, fs, band=band)
+    df = f[1] - f[0]
+    n_harm = 5
+    fig = dplots.plot_envelope_spectrum(
+        f,
+        amp,
+        {"BPFO": bpfo},
+        n_harmonics=n_harm,
+        title=f"Squared envelope spectrum, band {band[0]:.0f}-{band[1]:.0f} Hz",
+        ylabel="amplitude ((m/s^2)^2)",
+    )
+    _note(
+        fig,
+        f"band: {how}; resolution {df:.3g} Hz = 1 / record length; BPFO "
+        f"{bpfo:.4g} Hz from summary.json",
+    )
+    levels = []
+    for k in range(1, n_harm + 1):
+        if k * bpfo < f[-1]:
+            i = int(round(k * bpfo / df))
+            lo, hi = max(i - 1, 1), min(i + 2, f.size)
+            levels.append(float(np.max(amp[lo:hi])))
+    shown = (f >= 0.5 * bpfo) & (f <= (n_harm + 0.5) * bpfo)
+    background = float(np.median(amp[shown])) if shown.any() else math.nan
+    caption = (
+        f"Squared envelope spectrum in {band[0]:.0f}-{band[1]:.0f} Hz with BPFO = {bpfo:.4g} Hz "
+        f"and harmonics marked; resolution {df:.3g} Hz. Level at BPFO x1..{len(levels)} over "
+        f"the median: " + ", ".join(f"{v / background:.3g}" for v in levels) + "."
+    )
+    return (
+        fig,
+        caption,
+        {
+            "band_hz": list(band),
+            "resolution_hz": df,
+            "harmonic_levels": levels,
+            "background": background,
+            "markers_hz": [k * bpfo for k in range(1, n_harm + 1)],
+        },
+    )
+
+
+def _psd_notch(run, x):
+    freqs = _noise_frequencies(run.summary)
+    nperseg = min(4096, x.size)
+    fig = dplots.plot_psd_notch(
+        x, run.fs, [f for f in freqs if 0 < f < run.fs / 2], Q=NOTCH_Q, nperseg=nperseg
+    )
+    rows = notch_attenuation(x, run.fs, freqs, nperseg=nperseg)
+    ax = fig.axes[0]
+    ax.set_ylabel("PSD ((m/s^2)^2/Hz)")
+    for r in rows:
+        if math.isfinite(r["attenuation_db"]):
+            ax.annotate(
+                f"{r['frequency_hz']:.0f} Hz\n-{r['attenuation_db']:.0f} dB",
+                (r["peak_hz"], r["before"]),
+                xytext=(4, 4),
+                textcoords="offset points",
+                fontsize="small",
+                color="tab:red",
+            )
+    _note(
+        fig,
+        f"notch Q = {NOTCH_Q:g} at each predicted numerical-noise frequency "
+        f"(summary.json); Welch window {nperseg} samples",
+    )
+    if rows:
+        caption = (
+            "PSD before and after notches at the predicted numerical-noise "
+            "frequencies: "
+            + ", ".join(f"{r['frequency_hz']:.0f} Hz {r['attenuation_db']:.1f} dB" for r in rows)
+            + "."
+        )
+    else:
+        caption = "PSD of the sensor acceleration; no numerical-noise frequency was predicted."
+    return fig, caption, {"notches": rows, "nperseg": nperseg}
+
+
+def _third_octave(run, x):
+    duration = x.size / run.fs
+    # A third-octave band is 0.23 fc wide; keep those spanning at least 4 spectral bins.
+    f_min = max(20.0, 4.0 / (0.2316 * duration))
+    fig = dplots.plot_third_octave(x, run.fs, f_min=f_min)
+    fig.axes[0].set_ylabel("level (dB re 1 m/s^2)")
+    _note(
+        fig,
+        f"from {f_min:.0f} Hz: lower bands span fewer than 4 frequency bins of the "
+        f"{1e3 * duration:.3g} ms record",
+    )
+    from diagnostics import third_octave
+
+    fc, level = third_octave(x, run.fs, f_min=f_min)
+    k = int(np.nanargmax(np.where(np.isfinite(level), level, -np.inf)))
+    caption = (
+        f"One-third-octave spectrum from {f_min:.0f} Hz; strongest band {fc[k]:.0f} Hz "
+        f"at {level[k]:.1f} dB re 1 m/s^2."
+    )
+    return (
+        fig,
+        caption,
+        {"f_min_hz": f_min, "peak_band_hz": float(fc[k]), "peak_level_db": float(level[k])},
+    )
+
+
+def _deformed(run: RunData, path: Path) -> tuple[str, dict]:
+    from taichi_bearing.output.vtk import read_pvd
+    from taichi_bearing.post.deformed_render import render_spall_frame
+
+    pvd = run.run_dir / "frames" / "frames.pvd"
+    if not pvd.is_file():
+        raise FileNotFoundError("no frames/frames.pvd (output.frames off?)")
+    frames = read_pvd(pvd)
+    if not frames:
+        raise FileNotFoundError("frames/frames.pvd lists no frame")
+    time, name = frames[-1]
+    point, edges, half, text = _spall_view(run)
+    title = f"t = {1e3 * time:.3g} ms, {text}"
+    values = render_spall_frame(pvd.parent / name, path, point, half, edges, title=title)
+    values["time_s"] = time
+    caption = (
+        f"Deformed mesh around the spall at the last frame (t = {1e3 * time:.3g} ms), elastic "
+        f"displacement x{values['magnification']:g}, coloured by von Mises stress "
+        f"(max {values['max_von_mises_Pa'] / 1e6:.4g} MPa in view)."
+    )
+    return caption, values
+
+
+def _spall_view(run: RunData):
+    """Reference points of the spall centre and edges on the raceway, view half-height,
+    label."""
+    from taichi_bearing.case import parse_case
+
+    case = parse_case(run.case)
+    b, d = case.bearing, case.defect
+    if not d.present:
+        angle, race, length = 0.0, "outer", 0.0
+    else:
+        angle, race, length = d.angle, d.race, d.length
+    radius = b.outer_raceway_radius if race == "outer" else b.inner_raceway_radius
+    theta = 0.5 * math.pi + angle  # angles from 12 o'clock, counter-clockwise
+    half_span = 0.5 * length / radius
+
+    def at(a: float) -> tuple[float, float]:
+        return (radius * math.cos(a), radius * math.sin(a))
+
+    edges = (at(theta - half_span), at(theta + half_span)) if d.present else None
+    half = 0.5 * length + 1.2 * b.roller_radius
+    text = (
+        f"{race} raceway spall {1e3 * length:.3g} mm"
+        if d.present
+        else "healthy bearing: view at 12 o'clock"
+    )
+    return at(theta), edges, half, text
+
+
+# --------------------------------------------------------------------------- driver
+
+
+def make_run_figures(run_dir: str | os.PathLike, sensor: str | None = None) -> dict[str, Path]:
+    """Draw every figure of a run into ``run_dir/figures``.
+
+    Parameters
+    ----------
+    run_dir : str or path-like
+        A run folder (notes/rundir.md): ``summary.json``, ``histories.parquet``,
+        ``case.yaml`` and ``frames/``.
+    sensor : str, optional
+        Sensor whose acceleration is analysed; default the first of ``sensor_names``.
+
+    Returns
+    -------
+    dict of str to Path
+        Figure name (see :data:`FIGURE_NAMES`) to PNG file. ``figures/figures.json`` holds
+        each figure's caption and numbers; an analysis that could not be drawn (record too
+        short, no frames) gets a figure saying why, and its reason under ``"error"``.
+    """
+    run = load_run(run_dir)
+    out = run.run_dir / "figures"
+    out.mkdir(parents=True, exist_ok=True)
+    x, label = sensor_acceleration(run, sensor)
+    marks = _event_marks(run)
+    kg_holder: dict = {}
+
+    def kurto():
+        fig, cap, val, kg = _kurtogram(run, x)
+        kg_holder["kg"] = kg
+        return fig, cap, val
+
+    builders: dict[str, Callable[[], tuple[Figure, str, dict]]] = {
+        "acceleration": lambda: _acceleration(run, x, label, marks),
+        "contact_forces": lambda: _contact_forces(run),
+        "spectrogram": lambda: _spectrogram(run, x, marks),
+        "spectral_kurtosis": lambda: _spectral_kurtosis(run, x),
+        "kurtogram": kurto,
+        "envelope_spectrum": lambda: _envelope(run, x, kg_holder.get("kg")),
+        "psd_notch": lambda: _psd_notch(run, x),
+        "third_octave": lambda: _third_octave(run, x),
+    }
+    paths: dict[str, Path] = {}
+    meta: dict = {
+        "sensor": label,
+        "fs_hz": run.fs,
+        "n_samples": int(x.size),
+        "notes": run.notes,
+        "figures": {},
+    }
+    for name, build in builders.items():
+        path = out / f"{name}.png"
+        try:
+            fig, caption, values = build()
+            entry = {"file": path.name, "caption": caption, "values": values}
+        except ValueError as exc:  # record too short or degenerate for this analysis
+            fig = _placeholder(name.replace("_", " "), str(exc))
+            entry = {"file": path.name, "caption": f"not drawn: {exc}", "error": str(exc)}
+        _save(fig, path)
+        paths[name] = path
+        meta["figures"][name] = entry
+    path = out / "deformed_spall.png"
+    try:
+        caption, values = _deformed(run, path)
+        meta["figures"]["deformed_spall"] = {
+            "file": path.name,
+            "caption": caption,
+            "values": values,
+        }
+    except (FileNotFoundError, ValueError, KeyError) as exc:
+        _save(_placeholder("deformed mesh around the spall", str(exc)), path)
+        meta["figures"]["deformed_spall"] = {
+            "file": path.name,
+            "error": str(exc),
+            "caption": f"not drawn: {exc}",
+        }
+    paths["deformed_spall"] = path
+    write_json(out / "figures.json", meta)
+    return paths
