@@ -1,0 +1,460 @@
+"""2-D penalty node-to-segment contact with Coulomb friction and viscous damping, a
+:class:`~taichi_bearing.solver.model.ForceContributor`.
+
+Each step, for every node of every surface that takes part in a pass (a "query"):
+
+1. candidate segments: the segments binned in the node's cell of a uniform search grid
+   (segments of the surfaces this node's surface is paired with, each pass of a pair);
+2. the penetrated segment closest to the node: projection ``xi`` in [0, 1] (a small
+   tolerance), gap ``g = (x - a) . n < 0`` no deeper than the capture depth;
+3. normal force ``fn = max(0, k (-g) - c v_n)``, ``c = 2 zeta sqrt(k m_eff)``;
+4. friction: elastic stick ``ft_trial = ft_old - k dt v_t`` (tangential spring of the
+   normal penalty stiffness), return-mapped onto ``|ft| <= mu fn`` with
+   ``mu = mu_d + (mu_s - mu_d) exp(-decay |v_t|)``; ``ft`` is kept per query while the
+   node stays on the same segment or moves to a neighbouring segment (sharing a node),
+   and reset to zero when the contact opens or jumps elsewhere;
+5. the force ``fn n + ft t`` on the node, its reaction on the segment's two nodes split
+   by ``xi``; the pair resultant (force BY the slave body ON the master body) summed.
+
+Velocities are ``model.v`` = v^{n-1/2}, positions ``model.x`` = x^n (what the model has
+when the contributors are called).
+
+Search: a uniform square grid over the surfaces' box (see
+:func:`~taichi_bearing.solver.contact_setup.grid_spec`), rebuilt when some surface node
+has moved more than half the motion margin since the last build; each node then reads
+one cell. No shape assumption (circles, flats, spall walls alike); the cost is linear in
+the number of surface nodes as long as the bodies stay in the box the grid was sized for
+(outside it, points fall into the border cells: still correct, slower).
+"""
+
+# No `from __future__ import annotations`: Taichi reads kernel annotations at definition.
+from collections.abc import Sequence
+
+import numpy as np
+import taichi as ti
+
+from taichi_bearing.solver.contact_setup import (
+    ContactPair,
+    ContactParameters,
+    grid_spec,
+    segment_stiffness,
+)
+from taichi_bearing.solver.model import Model
+
+__all__ = ["ContactPair", "ContactParameters", "PenaltyContact"]
+
+_XI_TOL = 0.02  # projection tolerance at segment ends (convex corners between segments)
+
+
+@ti.data_oriented
+class PenaltyContact:
+    """Penalty contact between named surface pairs of a :class:`Model`.
+
+    Parameters
+    ----------
+    model : Model
+    pairs : sequence of ContactPair
+    params : ContactParameters
+
+    Attributes
+    ----------
+    pair_names : list of str
+    rebuilds : int
+        How many times the search grid was rebuilt.
+
+    Notes
+    -----
+    A query node holds at most one contact at a time (the closest penetrated segment
+    among all surfaces paired with its own). Two passes of a pair both apply penalty
+    forces, so the effective normal stiffness of a two-pass contact is about twice ``k``.
+    """
+
+    def __init__(
+        self, model: Model, pairs: Sequence[ContactPair], params: ContactParameters
+    ) -> None:
+        if not pairs:
+            raise ValueError("PenaltyContact needs at least one ContactPair")
+        mesh = model.mesh
+        self.params = params
+        self.pairs = list(pairs)
+        self.pair_names = [p.name for p in self.pairs]
+        if len(set(self.pair_names)) != len(self.pair_names):
+            raise ValueError("contact pair names must be unique")
+        names: list[str] = []
+        for p in self.pairs:
+            for s in (p.slave_surface, p.master_surface):
+                if s not in mesh.surfaces:
+                    raise KeyError(f"pair {p.name!r}: no surface {s!r} in the mesh")
+                if s not in names:
+                    names.append(s)
+        self.surface_names = names
+        ns = len(names)
+        sid = {s: k for k, s in enumerate(names)}
+        # pass table: query surface S against segment surface M -> pair, sign of resultant
+        table = np.full(ns * ns, -1, dtype=np.int32)
+        sign = np.zeros(ns * ns)
+        for k, p in enumerate(self.pairs):
+            s, m = sid[p.slave_surface], sid[p.master_surface]
+            if s == m:
+                raise ValueError(f"pair {p.name!r}: a surface cannot contact itself")
+            for a, b, sg in ((s, m, -1.0), (m, s, 1.0))[: 2 if p.two_pass else 1]:
+                if table[a * ns + b] >= 0:
+                    raise ValueError(f"pair {p.name!r} duplicates another pair")
+                table[a * ns + b] = k
+                sign[a * ns + b] = sg
+        query_surfaces = sorted({i // ns for i in np.flatnonzero(table >= 0)})
+        seg_surfaces = sorted({i % ns for i in np.flatnonzero(table >= 0)})
+
+        # queries: unique nodes of each querying surface
+        q_node, q_surf = [], []
+        for s in query_surfaces:
+            nodes = np.unique(mesh.surfaces[names[s]].ravel())
+            q_node.append(nodes)
+            q_surf.append(np.full(len(nodes), s))
+        q_node = np.concatenate(q_node).astype(np.int32)
+        q_surf = np.concatenate(q_surf).astype(np.int32)
+        # segments of the surfaces queried against
+        segs, seg_surf = [], []
+        for m in seg_surfaces:
+            seg = np.asarray(mesh.surfaces[names[m]], dtype=np.int64)
+            segs.append(seg)
+            seg_surf.append(np.full(len(seg), m))
+        segs = np.concatenate(segs)
+        seg_surf = np.concatenate(seg_surf).astype(np.int32)
+        lam = model.lam.to_numpy()[: model.n_elements]
+        mu = model.mu.to_numpy()[: model.n_elements]
+        k_seg = segment_stiffness(
+            mesh, segs, lam, mu, model.area_np, model.thickness, params.penalty_scale
+        )
+        track = np.unique(np.concatenate([q_node, segs.ravel()])).astype(np.int32)
+        X = np.asarray(mesh.nodes, dtype=float)
+        lengths = np.linalg.norm(X[segs[:, 1]] - X[segs[:, 0]], axis=1)
+        self.grid = g = grid_spec(X[track], lengths)
+
+        self.n_pairs = len(self.pairs)
+        self.n_surf = ns
+        self.n_query = nq = len(q_node)
+        self.n_seg = nseg = len(segs)
+        self.n_track = len(track)
+        self.cap = 9 * nseg + 16
+        self.q_node_np = q_node
+        self.q_surf_np = q_surf
+
+        f = ti.field
+        v2 = lambda n: ti.Vector.field(2, ti.f64, shape=max(n, 1))  # noqa: E731
+        self.pass_pair = f(ti.i32, shape=ns * ns)
+        self.pass_sign = f(ti.f64, shape=ns * ns)
+        self.q_node = f(ti.i32, shape=nq)
+        self.q_surf = f(ti.i32, shape=nq)
+        self.q_seg = f(ti.i32, shape=nq)  # segment in contact, -1 open
+        self.q_ft = f(ti.f64, shape=nq)  # tangential spring force along the segment
+        self.q_fn = f(ti.f64, shape=nq)  # last normal force
+        self.q_gap = f(ti.f64, shape=nq)  # last gap (negative: penetration)
+        self.q_en = f(ti.f64, shape=nq)  # normal penalty energy stored
+        self.q_et = f(ti.f64, shape=nq)  # tangential spring energy stored
+        self.seg_a = f(ti.i32, shape=nseg)
+        self.seg_b = f(ti.i32, shape=nseg)
+        self.seg_surf = f(ti.i32, shape=nseg)
+        self.seg_k = f(ti.f64, shape=nseg)
+        self.track = f(ti.i32, shape=len(track))
+        self.x_ref = v2(len(track))
+        self.cell_start = f(ti.i32, shape=g.n_cells + 1)
+        self.cell_fill = f(ti.i32, shape=g.n_cells)
+        self.cell_items = f(ti.i32, shape=self.cap)
+        self.status = f(ti.i32, shape=2)  # 0: overflow flag
+        self.max_move = f(ti.f64, shape=())
+        self.node_force = v2(model.n_nodes)  # contact force on each node, last step
+        self.cur = ti.Vector.field(4, ti.f64, shape=self.n_pairs)
+        self.acc = ti.Vector.field(4, ti.f64, shape=self.n_pairs)
+        self.diss = f(ti.f64, shape=2)  # friction, damping: dissipated so far, J
+
+        self.pass_pair.from_numpy(table)
+        self.pass_sign.from_numpy(sign)
+        self.q_node.from_numpy(q_node)
+        self.q_surf.from_numpy(q_surf)
+        self.q_seg.fill(-1)
+        self.seg_a.from_numpy(segs[:, 0].astype(np.int32))
+        self.seg_b.from_numpy(segs[:, 1].astype(np.int32))
+        self.seg_surf.from_numpy(seg_surf)
+        self.seg_k.from_numpy(k_seg)
+        self.track.from_numpy(track)
+        self.n_samples = 0
+        self.rebuilds = 0
+        self._built = False
+
+    # ------------------------------------------------------------------ search grid
+
+    @ti.func
+    def _cell_xy(self, p, ox: ti.f64, oy: ti.f64, h: ti.f64, nx: ti.i32, ny: ti.i32):
+        cx = ti.min(ti.max(int(ti.floor((p[0] - ox) / h)), 0), nx - 1)
+        cy = ti.min(ti.max(int(ti.floor((p[1] - oy) / h)), 0), ny - 1)
+        return cx, cy
+
+    @ti.func
+    def _seg_cells(self, x: ti.template(), s, ox, oy, h, nx, ny, grow):
+        """Cell range covered by segment s's bounding box grown by ``grow``."""
+        a, b = x[self.seg_a[s]], x[self.seg_b[s]]
+        x0, y0 = self._cell_xy(ti.min(a, b) - grow, ox, oy, h, nx, ny)
+        x1, y1 = self._cell_xy(ti.max(a, b) + grow, ox, oy, h, nx, ny)
+        return x0, y0, x1, y1
+
+    @ti.kernel
+    def _k_build(
+        self,
+        x: ti.template(),
+        ox: ti.f64,
+        oy: ti.f64,
+        h: ti.f64,
+        nx: ti.i32,
+        ny: ti.i32,
+        grow: ti.f64,
+    ):
+        for c in range(nx * ny + 1):
+            self.cell_start[c] = 0
+        for s in range(self.n_seg):
+            x0, y0, x1, y1 = self._seg_cells(x, s, ox, oy, h, nx, ny, grow)
+            for cy in range(y0, y1 + 1):
+                for cx in range(x0, x1 + 1):
+                    ti.atomic_add(self.cell_start[cy * nx + cx + 1], 1)
+        ti.loop_config(serialize=True)
+        for c in range(nx * ny):
+            self.cell_start[c + 1] += self.cell_start[c]
+        for c in range(nx * ny):
+            self.cell_fill[c] = self.cell_start[c]
+        self.status[0] = 0
+        for s in range(self.n_seg):
+            x0, y0, x1, y1 = self._seg_cells(x, s, ox, oy, h, nx, ny, grow)
+            for cy in range(y0, y1 + 1):
+                for cx in range(x0, x1 + 1):
+                    k = ti.atomic_add(self.cell_fill[cy * nx + cx], 1)
+                    if k < self.cap:
+                        self.cell_items[k] = s
+                    else:
+                        self.status[0] = 1
+        for t in range(self.n_track):
+            self.x_ref[t] = x[self.track[t]]
+
+    @ti.kernel
+    def _k_max_move(self, x: ti.template()):
+        self.max_move[None] = 0.0
+        for t in range(self.n_track):
+            d = (x[self.track[t]] - self.x_ref[t]).norm()
+            ti.atomic_max(self.max_move[None], d)
+
+    def _rebuild(self, model: Model) -> None:
+        g = self.grid
+        ox, oy = g.origin
+        self._k_build(model.x, ox, oy, g.cell, g.nx, g.ny, g.capture + g.margin)
+        if int(self.status[0]):
+            raise RuntimeError("contact search grid overflow: segments far larger than meshed")
+        self.rebuilds += 1
+        self._built = True
+
+    # ------------------------------------------------------------------ contact forces
+
+    @ti.kernel
+    def _k_contact(
+        self,
+        x: ti.template(),
+        v: ti.template(),
+        mass: ti.template(),
+        f_ext: ti.template(),
+        dt: ti.f64,
+        soft: ti.i32,
+        scale: ti.f64,
+        mu_s: ti.f64,
+        mu_d: ti.f64,
+        decay: ti.f64,
+        zeta: ti.f64,
+        ox: ti.f64,
+        oy: ti.f64,
+        h: ti.f64,
+        nx: ti.i32,
+        ny: ti.i32,
+        capture: ti.f64,
+    ):
+        for p in range(self.n_pairs):
+            self.cur[p] = ti.Vector.zero(ti.f64, 4)
+        for t in range(self.n_track):
+            self.node_force[self.track[t]] = ti.Vector.zero(ti.f64, 2)
+        for q in range(self.n_query):
+            i = self.q_node[q]
+            S = self.q_surf[q]
+            xp = x[i]
+            cx, cy = self._cell_xy(xp, ox, oy, h, nx, ny)
+            c = cy * nx + cx
+            best = -1
+            best_pen = 1e300
+            best_xi = 0.0
+            for k in range(self.cell_start[c], self.cell_start[c + 1]):
+                s = self.cell_items[k]
+                if self.pass_pair[S * self.n_surf + self.seg_surf[s]] >= 0:
+                    ia, ib = self.seg_a[s], self.seg_b[s]
+                    if ia != i and ib != i:
+                        a = x[ia]
+                        d = x[ib] - a
+                        l2 = d.dot(d)
+                        xi = (xp - a).dot(d) / l2
+                        if xi >= -_XI_TOL and xi <= 1.0 + _XI_TOL:
+                            ln = ti.sqrt(l2)
+                            gap = (xp - a).dot(ti.Vector([d[1], -d[0]])) / ln
+                            pen = -gap
+                            # Closest penetrated segment; ties to the lower index.
+                            if pen > 0.0 and pen < capture:
+                                if pen < best_pen or (pen == best_pen and s < best):
+                                    best, best_pen, best_xi = s, pen, xi
+            if best < 0:
+                # Open: the tangential spring's energy is lost (counted as friction).
+                self.diss[0] += self.q_et[q]
+                self.q_seg[q] = -1
+                self.q_ft[q] = 0.0
+                self.q_fn[q] = 0.0
+                self.q_gap[q] = 0.0
+                self.q_en[q] = 0.0
+                self.q_et[q] = 0.0
+            else:
+                self._apply(
+                    q, i, S, best, best_pen, best_xi,
+                    x, v, mass, f_ext, dt, soft, scale, mu_s, mu_d, decay, zeta,
+                )  # fmt: skip
+        for p in range(self.n_pairs):
+            self.acc[p] += self.cur[p]
+
+    @ti.func
+    def _apply(
+        self, q, i, S, s, pen, xi_raw,
+        x: ti.template(), v: ti.template(), mass: ti.template(), f_ext: ti.template(),
+        dt, soft, scale, mu_s, mu_d, decay, zeta,
+    ):  # fmt: skip
+        ia, ib = self.seg_a[s], self.seg_b[s]
+        xi = ti.min(ti.max(xi_raw, 0.0), 1.0)
+        d = x[ib] - x[ia]
+        ln = d.norm()
+        tv = d / ln
+        nv = ti.Vector([tv[1], -tv[0]])
+        m_m = (1.0 - xi) * mass[ia] + xi * mass[ib]
+        m_eff = mass[i] * m_m / (mass[i] + m_m)
+        k = self.seg_k[s]
+        if soft != 0:
+            k = scale * m_eff / (dt * dt)
+        vrel = v[i] - ((1.0 - xi) * v[ia] + xi * v[ib])
+        vn = vrel.dot(nv)
+        vt = vrel.dot(tv)
+        fn_el = k * pen
+        fn = ti.max(fn_el - 2.0 * zeta * ti.sqrt(k * m_eff) * vn, 0.0)
+        # Friction: keep the stick state on the same or a neighbouring segment.
+        old = self.q_seg[q]
+        keep = 0
+        if old == s:
+            keep = 1
+        elif old >= 0:
+            if self.seg_surf[old] == self.seg_surf[s]:
+                if self.seg_a[old] == ib or self.seg_b[old] == ia:
+                    keep = 1
+        ft0 = 0.0
+        e_t0 = 0.0
+        if keep != 0:
+            ft0 = self.q_ft[q]
+            e_t0 = self.q_et[q]
+        else:
+            self.diss[0] += self.q_et[q]  # reset: the old spring energy is lost
+        ft = ft0 - k * dt * vt
+        mu = mu_d + (mu_s - mu_d) * ti.exp(-decay * ti.abs(vt))
+        lim = mu * fn
+        if ti.abs(ft) > lim:
+            ft = lim if ft > 0.0 else -lim
+        e_t = 0.5 * ft * ft / k
+        # Dissipated: by friction, its midpoint work on the slip less the spring's energy
+        # change; by damping, the work of the force beyond the elastic one.
+        self.diss[0] += -0.5 * (ft0 + ft) * vt * dt - (e_t - e_t0)
+        self.diss[1] += -(fn - fn_el) * vn * dt
+        F = fn * nv + ft * tv
+        f_ext[i] += F
+        f_ext[ia] += -(1.0 - xi) * F
+        f_ext[ib] += -xi * F
+        self.node_force[i] += F
+        self.node_force[ia] += -(1.0 - xi) * F
+        self.node_force[ib] += -xi * F
+        key = S * self.n_surf + self.seg_surf[s]
+        p = self.pass_pair[key]
+        sg = self.pass_sign[key]
+        self.cur[p] += ti.Vector([sg * F[0], sg * F[1], fn, -ft])
+        self.q_seg[q] = s
+        self.q_ft[q] = ft
+        self.q_fn[q] = fn
+        self.q_gap[q] = -pen
+        self.q_en[q] = 0.5 * k * pen * pen
+        self.q_et[q] = e_t
+
+    # ------------------------------------------------------------------ ForceContributor
+
+    def add_forces(self, model: Model, t: float) -> None:
+        """Add this step's contact forces into ``model.f_extra`` (see module notes)."""
+        g = self.grid
+        if self._built:
+            self._k_max_move(model.x)
+            rebuild = float(self.max_move[None]) > 0.5 * g.margin
+        else:
+            rebuild = True
+        if rebuild:
+            self._rebuild(model)
+        pr = self.params
+        ox, oy = g.origin
+        self._k_contact(
+            model.x, model.v, model.mass, model.f_extra, model.dt,
+            int(pr.penalty_method == "soft"), pr.penalty_scale,
+            pr.friction_static, pr.friction_dynamic, pr.friction_decay, pr.damping_ratio,
+            ox, oy, g.cell, g.nx, g.ny, g.capture,
+        )  # fmt: skip
+        self.n_samples += 1
+
+    # ------------------------------------------------------------------ read-out
+
+    def current_resultants(self) -> np.ndarray:
+        """Per pair (fx, fy, fn, ft) of the last step, shape (n_pairs, 4), N.
+
+        ``fx, fy``: force BY the slave body ON the master body (global axes). ``fn``: sum
+        of the normal contact forces, positive in compression. ``ft``: tangential force on
+        the master along the master surface's direction (body on its left), i.e. the
+        outward normal turned +90 degrees.
+        """
+        return self.cur.to_numpy()[: self.n_pairs].copy()
+
+    def pop_sample_means(self) -> np.ndarray:
+        """Mean of :meth:`current_resultants` over the steps since the last call (zeros
+        if none), shape (n_pairs, 4); restarts the sums."""
+        s = self.acc.to_numpy()[: self.n_pairs] / max(self.n_samples, 1)
+        self.acc.fill(0.0)
+        self.n_samples = 0
+        return s
+
+    def energy(self, model: Model | None = None) -> float:
+        """Elastic energy stored in the penalty springs (normal + tangential), J."""
+        n = self.n_query
+        return float(self.q_en.to_numpy()[:n].sum() + self.q_et.to_numpy()[:n].sum())
+
+    def energies(self) -> dict[str, float]:
+        """``elastic`` (stored penalty energy), ``friction`` and ``damping`` (dissipated
+        since construction or :meth:`reset_dissipation`), J for the model's thickness."""
+        d = self.diss.to_numpy()
+        return {"elastic": self.energy(), "friction": float(d[0]), "damping": float(d[1])}
+
+    def reset_dissipation(self) -> None:
+        """Zero the dissipation sums (e.g. after the preload)."""
+        self.diss.fill(0.0)
+
+    def nodal_forces(self) -> np.ndarray:
+        """Contact force on every node in the last step, shape (n_nodes, 2), N."""
+        return self.node_force.to_numpy()
+
+    def contact_state(self) -> dict[str, np.ndarray]:
+        """Per query node: ``node``, ``segment`` (-1 open), ``gap`` (m, negative inside),
+        ``fn`` and ``ft`` (N) of the last step."""
+        n = self.n_query
+        return {
+            "node": self.q_node_np.copy(),
+            "segment": self.q_seg.to_numpy()[:n],
+            "gap": self.q_gap.to_numpy()[:n],
+            "fn": self.q_fn.to_numpy()[:n],
+            "ft": self.q_ft.to_numpy()[:n],
+        }

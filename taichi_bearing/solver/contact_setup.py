@@ -1,0 +1,180 @@
+"""Plain-numpy set-up of penalty contact: parameters, pairs, segment stiffness, the query
+list and the size of the search grid. No Taichi here (the kernels are in ``contact.py``)."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from taichi_bearing.mesh.types import Mesh
+
+__all__ = [
+    "ContactPair",
+    "ContactParameters",
+    "GridSpec",
+    "PENALTY_METHODS",
+    "grid_spec",
+    "segment_elements",
+    "segment_stiffness",
+]
+
+PENALTY_METHODS = ("segment", "soft")
+
+
+@dataclass(frozen=True)
+class ContactParameters:
+    """Penalty, friction and damping constants shared by every contact pair.
+
+    Attributes
+    ----------
+    penalty_method : {"segment", "soft"}
+        ``"segment"``: LS-DYNA's segment-based stiffness ``k = f_s K A^2 / V`` of the
+        master segment, with ``K = lambda + 2 mu / 3`` the bulk modulus of the element
+        the segment bounds, ``A = L t`` the segment area (length x thickness) and
+        ``V = area t`` the element volume, i.e. ``k = f_s K L^2 t / area``.
+        ``"soft"``: ``k = f_s m_eff / dt^2`` with ``m_eff = m_s m_m / (m_s + m_m)``, the
+        slave node mass and the master mass interpolated at the contact point, and the
+        model's current time step (LS-DYNA's SOFT=1 idea).
+    penalty_scale : float
+        ``f_s`` above (LS-DYNA's default is 0.1).
+    friction_static, friction_dynamic : float
+        Coulomb coefficients; ``mu = mu_d + (mu_s - mu_d) exp(-decay |v_slip|)``.
+    friction_decay : float
+        Exponential decay coefficient, s/m.
+    damping_ratio : float
+        Viscous contact damping ``c = 2 zeta sqrt(k m_eff)`` as a fraction of critical.
+    """
+
+    penalty_method: str = "segment"
+    penalty_scale: float = 0.1
+    friction_static: float = 0.0
+    friction_dynamic: float = 0.0
+    friction_decay: float = 0.0
+    damping_ratio: float = 0.0
+
+    def __post_init__(self) -> None:
+        if self.penalty_method not in PENALTY_METHODS:
+            raise ValueError(
+                f"penalty_method must be one of {PENALTY_METHODS}, got {self.penalty_method!r}"
+            )
+        if not self.penalty_scale > 0:
+            raise ValueError(f"penalty_scale must be positive, got {self.penalty_scale!r}")
+        if not 0 <= self.friction_dynamic <= self.friction_static:
+            raise ValueError(
+                "need 0 <= friction_dynamic <= friction_static, got "
+                f"{self.friction_dynamic!r}, {self.friction_static!r}"
+            )
+        if not self.friction_decay >= 0:
+            raise ValueError(f"friction_decay must be >= 0, got {self.friction_decay!r}")
+        if not 0 <= self.damping_ratio <= 1:
+            raise ValueError(f"damping_ratio must lie in [0, 1], got {self.damping_ratio!r}")
+
+    @classmethod
+    def from_case(cls, contact) -> ContactParameters:
+        """From a case's ``contact`` section (:class:`taichi_bearing.case.Contact`)."""
+        return cls(
+            penalty_method=contact.penalty_method,
+            penalty_scale=contact.penalty_scale,
+            friction_static=contact.friction_static,
+            friction_dynamic=contact.friction_dynamic,
+            friction_decay=contact.friction_decay,
+            damping_ratio=contact.damping_ratio,
+        )
+
+    def friction_coefficient(self, slip_speed: float | np.ndarray) -> float | np.ndarray:
+        """``mu_d + (mu_s - mu_d) exp(-decay |v|)``."""
+        mu_s, mu_d = self.friction_static, self.friction_dynamic
+        return mu_d + (mu_s - mu_d) * np.exp(-self.friction_decay * np.abs(slip_speed))
+
+
+@dataclass(frozen=True)
+class ContactPair:
+    """Two surfaces of ``Mesh.surfaces`` that may touch.
+
+    Resultants are reported as the force exerted BY the slave body ON the master body.
+    With ``two_pass`` the master's nodes are also checked against the slave's segments.
+    """
+
+    name: str
+    slave_surface: str
+    master_surface: str
+    two_pass: bool = True
+
+
+def segment_elements(mesh: Mesh, segments: np.ndarray) -> np.ndarray:
+    """The element each boundary segment belongs to (the one holding both its nodes)."""
+    edges = np.stack([mesh.elements, np.roll(mesh.elements, -1, axis=1)], axis=2)
+    edges = edges.reshape(-1, 2)
+    owner = np.repeat(np.arange(mesh.n_elements), 4)
+    lookup = {(int(a), int(b)): int(e) for (a, b), e in zip(edges, owner, strict=True)}
+    out = np.empty(len(segments), dtype=np.int64)
+    for k, (a, b) in enumerate(segments):
+        e = lookup.get((int(a), int(b)))
+        if e is None:
+            e = lookup.get((int(b), int(a)))
+        if e is None:
+            raise ValueError(f"segment ({a}, {b}) is not an element edge")
+        out[k] = e
+    return out
+
+
+def segment_stiffness(
+    mesh: Mesh,
+    segments: np.ndarray,
+    lam: np.ndarray,
+    mu: np.ndarray,
+    element_area: np.ndarray,
+    thickness: float,
+    scale: float,
+) -> np.ndarray:
+    """LS-DYNA segment penalty ``f_s K A^2 / V`` (N/m) of each segment.
+
+    ``K = lambda + 2 mu / 3`` of the owning element, ``A = L t``, ``V = area t``.
+    """
+    elem = segment_elements(mesh, segments)
+    length = np.linalg.norm(mesh.nodes[segments[:, 1]] - mesh.nodes[segments[:, 0]], axis=1)
+    bulk = lam[elem] + 2.0 * mu[elem] / 3.0
+    return scale * bulk * (length * thickness) ** 2 / (element_area[elem] * thickness)
+
+
+@dataclass(frozen=True)
+class GridSpec:
+    """A uniform grid of square search cells: origin, cell size, counts, and the distances
+    that make a grid built at one instant valid until a node has moved ``margin / 2``."""
+
+    origin: tuple[float, float]
+    cell: float
+    nx: int
+    ny: int
+    capture: float  # deepest penetration still treated as contact, m
+    margin: float  # motion allowance before a rebuild, m
+
+    @property
+    def n_cells(self) -> int:
+        return self.nx * self.ny
+
+
+def grid_spec(points: np.ndarray, seg_lengths: np.ndarray, pad: float = 0.15) -> GridSpec:
+    """Size the search grid for surfaces with these node positions and segment lengths.
+
+    The cell is at least the longest segment plus twice (capture + margin), so a segment,
+    with its bounding box grown by capture + margin, overlaps at most 4 cells; and at
+    least ``sqrt(box area / n_segments)``, so the number of cells stays of the order of the
+    number of segments (the search stays linear in the surface size). The box is padded
+    by ``pad`` of its size; points outside it fall into the border cells (still correct).
+    """
+    l_max = float(seg_lengths.max())
+    capture = 0.5 * l_max
+    margin = 0.5 * float(np.median(seg_lengths))
+    lo = points.min(axis=0)
+    hi = points.max(axis=0)
+    size = np.maximum(hi - lo, l_max)
+    lo = lo - pad * size - 2 * (capture + margin)
+    hi = hi + pad * size + 2 * (capture + margin)
+    ext = hi - lo
+    cell = max(l_max + 2.0 * (capture + margin), math.sqrt(ext[0] * ext[1] / len(seg_lengths)))
+    nx = max(1, math.ceil(ext[0] / cell))
+    ny = max(1, math.ceil(ext[1] / cell))
+    return GridSpec((float(lo[0]), float(lo[1])), cell, nx, ny, capture, margin)
