@@ -222,10 +222,13 @@ class Cage:
 
 @dataclass(frozen=True)
 class Damping:
-    """Stiffness-proportional damping: ``ratio`` of critical at ``frequency`` (Hz)."""
+    """Stiffness-proportional damping: ``ratio`` of critical at ``frequency`` (Hz), with
+    each element's own damping ratio at its highest frequency capped at
+    ``max_element_ratio`` (which bounds how much the damping shortens the time step)."""
 
     ratio: float
     frequency: float  # Hz
+    max_element_ratio: float = 0.1
 
     @property
     def beta(self) -> float:
@@ -419,6 +422,7 @@ SCHEMA: dict[str, tuple[type, tuple[Key, ...]]] = {
         (
             Key("ratio", float, lo=0.0, hi=1.0),
             Key("frequency_Hz", float, **POS),
+            Key("max_element_ratio", float, **POS, default=0.1),
         ),
     ),
     "preload": (

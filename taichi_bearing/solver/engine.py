@@ -13,10 +13,13 @@ from __future__ import annotations
 import math
 import os
 import time
+from collections.abc import Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import Protocol
 
 import numpy as np
+from taichi.lang.field import Field as TaichiField
 
 from taichi_bearing.errors import InputError, SimulationError
 from taichi_bearing.output.checkpoint import latest_checkpoint, load_checkpoint, save_checkpoint
@@ -25,9 +28,79 @@ from taichi_bearing.output.progress import RunProgress
 from taichi_bearing.output.vtk import FrameWriter
 from taichi_bearing.solver.model import Model
 
-__all__ = ["RunConfig", "RunResult", "run_transient", "steps_per_sample"]
+__all__ = [
+    "Recorder",
+    "RunConfig",
+    "RunResult",
+    "load_object_state",
+    "object_state",
+    "run_transient",
+    "steps_per_sample",
+]
 
 BALANCE_COLUMN = "energy_balance_error"
+
+
+class Recorder(Protocol):
+    """Extra history columns (e.g. roller contact forces, cage angle).
+
+    ``sample(model)`` is called once per output sample, after the steps of the interval,
+    and returns one value per name in ``columns`` (means over the interval where that
+    makes sense: see each recorder).
+    """
+
+    columns: list[str]
+
+    def sample(self, model: Model) -> np.ndarray: ...
+
+
+def object_state(obj) -> dict[str, np.ndarray]:
+    """What a contributor or recorder needs to continue bit for bit after a resume.
+
+    ``obj.state_arrays()`` when it defines one; otherwise every Taichi field and every
+    plain int/float/bool attribute of the object (its friction springs, sums, counters).
+    """
+    if hasattr(obj, "state_arrays"):
+        return dict(obj.state_arrays())
+    out: dict[str, np.ndarray] = {}
+    for name, val in vars(obj).items():
+        if isinstance(val, TaichiField):
+            out[name] = val.to_numpy()
+        elif isinstance(val, (bool, int, float)) and not isinstance(val, np.ndarray):
+            out[name] = np.asarray(val)
+    return out
+
+
+def load_object_state(obj, arrays: dict[str, np.ndarray]) -> None:
+    """Restore what :func:`object_state` saved."""
+    if hasattr(obj, "load_state_arrays"):
+        obj.load_state_arrays(arrays)
+        return
+    for name, a in arrays.items():
+        cur = getattr(obj, name)
+        if isinstance(cur, TaichiField):
+            cur.from_numpy(np.asarray(a))
+        else:
+            setattr(obj, name, type(cur)(np.asarray(a).item()))
+
+
+def _stateful(model: Model, recorders: Sequence) -> dict[str, object]:
+    items = {f"contributor{k}": c for k, c in enumerate(model.contributors)}
+    items.update({f"recorder{k}": r for k, r in enumerate(recorders)})
+    return items
+
+
+def _save_states(arrays: dict, objects: dict[str, object]) -> None:
+    for prefix, obj in objects.items():
+        for name, a in object_state(obj).items():
+            arrays[f"{prefix}.{name}"] = a
+
+
+def _load_states(arrays, objects: dict[str, object]) -> None:
+    for prefix, obj in objects.items():
+        mine = {k[len(prefix) + 1 :]: arrays[k] for k in arrays if k.startswith(prefix + ".")}
+        if mine:
+            load_object_state(obj, mine)
 
 
 @dataclass
@@ -139,6 +212,7 @@ def run_transient(
     out_dir: str | os.PathLike | None = None,
     resume: bool = False,
     fingerprint: str = "",
+    recorders: Sequence[Recorder] = (),
 ) -> RunResult:
     """Run the model from its current state for ``config.duration`` s.
 
@@ -157,6 +231,9 @@ def run_transient(
     fingerprint : str
         Hash of the case and mesh (:func:`taichi_bearing.output.checkpoint.fingerprint`);
         a checkpoint with another one is refused on resume.
+    recorders : sequence of Recorder
+        Extra columns, placed after the sensor columns. Their state, and the state of the
+        model's contributors (:func:`object_state`), goes into every checkpoint.
 
     Returns
     -------
@@ -177,7 +254,11 @@ def run_transient(
     n_samples = max(1, round(config.duration * config.sample_rate))
     frame_every = _every(config.frame_interval, config.sample_rate) if out else None
     ckpt_every = _every(config.checkpoint_interval, config.sample_rate) if out else None
-    columns = history_columns(model.sensor_names, 0, ENERGY_KINDS) + [BALANCE_COLUMN]
+    base = history_columns(model.sensor_names, 0, ENERGY_KINDS)
+    n_head = 1 + 6 * len(model.sensor_names)
+    extra = [c for r in recorders for c in r.columns]
+    columns = base[:n_head] + extra + base[n_head:] + [BALANCE_COLUMN]
+    stateful = _stateful(model, recorders)
 
     k0 = 0
     resume_time = None
@@ -189,6 +270,7 @@ def run_transient(
             raise InputError(f"--resume: no checkpoint in {ckpt_dir}")
         _, resume_time, arrays, meta = load_checkpoint(path, fingerprint or None)
         model.load_state_arrays(arrays)
+        _load_states(arrays, stateful)
         e0 = float(arrays["initial_energy"])
         k0 = int(meta["sample"])
         if int(meta["steps_per_sample"]) != s_steps:
@@ -199,6 +281,8 @@ def run_transient(
         model.bad_element[None] = model.n_elements
         model.advance(1, record_last=True)  # t = 0 -> dt (a half step for v)
         model.take_sensor_means(1)  # t = 0 belongs to no output interval
+        for r in recorders:
+            r.sample(model)  # likewise for the recorders' sums
         en = model.energies()
         e0 = en["kinetic"] + en["internal"] + en["hourglass"]
 
@@ -221,6 +305,7 @@ def run_transient(
                 model.advance(s_steps, record_last=True)
                 t = step() * model.dt
                 means = model.take_sensor_means(s_steps)
+                extra_values = [np.asarray(r.sample(model), dtype=float) for r in recorders]
                 en = model.energies()
                 en["contact"] = _contact_energy(model)
                 mech = en["kinetic"] + en["internal"] + en["hourglass"]
@@ -231,6 +316,7 @@ def run_transient(
                     [
                         [t],
                         means.ravel(),
+                        *extra_values,
                         [en[kind] if kind in en else 0.0 for kind in ENERGY_KINDS],
                         [balance],
                     ]
@@ -270,6 +356,7 @@ def run_transient(
                     writer.flush()
                     arrays = model.state_arrays()
                     arrays["initial_energy"] = np.float64(e0)
+                    _save_states(arrays, stateful)
                     save_checkpoint(
                         ckpt_dir,
                         model.step_count,

@@ -15,6 +15,7 @@ __all__ = [
     "HeldDirection",
     "NodalForces",
     "PrescribedRotation",
+    "RigidPlate",
     "RigidVelocity",
     "line_load",
     "rotation_angle",
@@ -27,6 +28,13 @@ def _ids(nodes) -> np.ndarray:
     if a.size == 0:
         raise ValueError("a constraint or load needs at least one node")
     return a
+
+
+def _unit(direction, what: str) -> tuple[float, float]:
+    d = np.asarray(direction, dtype=float)
+    if d.shape != (2,) or not np.linalg.norm(d) > 0:
+        raise ValueError(f"{what}.direction must be a non-zero 2-vector, got {d}")
+    return tuple(d / np.linalg.norm(d))
 
 
 @dataclass
@@ -48,10 +56,25 @@ class HeldDirection:
 
     def __post_init__(self) -> None:
         self.nodes = _ids(self.nodes)
-        d = np.asarray(self.direction, dtype=float)
-        if d.shape != (2,) or not np.linalg.norm(d) > 0:
-            raise ValueError(f"HeldDirection.direction must be a non-zero 2-vector, got {d}")
-        self.direction = tuple(d / np.linalg.norm(d))
+        self.direction = _unit(self.direction, "HeldDirection")
+
+
+@dataclass
+class RigidPlate:
+    """Nodes that move together as one rigid loading plate along the unit ``direction``
+    and are held across it: one shared velocity, driven by the sum of the forces on the
+    nodes (loads, element and contact forces) over the sum of their masses.
+
+    Unlike :class:`HeldDirection` alone, the plate cannot tilt, so a body hanging from it
+    has no zero-energy rotation about the plate's centre.
+    """
+
+    nodes: np.ndarray
+    direction: tuple[float, float] = (0.0, 1.0)
+
+    def __post_init__(self) -> None:
+        self.nodes = _ids(self.nodes)
+        self.direction = _unit(self.direction, "RigidPlate")
 
 
 @dataclass

@@ -35,13 +35,14 @@ from taichi_bearing.solver.loads import (
     HeldDirection,
     NodalForces,
     PrescribedRotation,
+    RigidPlate,
     RigidVelocity,
 )
 from taichi_bearing.solver.materials import Material, materials_per_element
 
 __all__ = ["ForceContributor", "Model", "StiffnessDamping"]  # StiffnessDamping: re-export
 
-_FIXED, _HELD, _ROT = 1, 2, 4
+_FIXED, _HELD, _ROT, _PLATE = 1, 2, 4, 8
 # Below this many elements a block of steps runs as one serial kernel (launch-bound regime).
 SERIAL_MAX_ELEMENTS = 3000
 
@@ -88,7 +89,8 @@ class Model:
     materials : Material or mapping of part name to Material
     thickness : float
         Plane-strain thickness, m; masses, forces and energies are for this thickness.
-    constraints : sequence of FixedNodes, HeldDirection, PrescribedRotation
+    constraints : sequence of FixedNodes, HeldDirection, PrescribedRotation, RigidPlate
+        (at most one RigidPlate)
     loads : sequence of NodalForces
     initial_velocities : sequence of RigidVelocity
     damping : StiffnessDamping, optional
@@ -111,7 +113,7 @@ class Model:
         materials: Material | Mapping[str, Material],
         *,
         thickness: float = 1.0,
-        constraints: Sequence[FixedNodes | HeldDirection | PrescribedRotation] = (),
+        constraints: Sequence[FixedNodes | HeldDirection | PrescribedRotation | RigidPlate] = (),
         loads: Sequence[NodalForces] = (),
         initial_velocities: Sequence[RigidVelocity] = (),
         damping: StiffnessDamping | None = None,
@@ -215,6 +217,9 @@ class Model:
         held = np.zeros((nn, 2))
         rgroup = np.full(nn, -1, dtype=np.int32)
         rots: list[PrescribedRotation] = []
+        plates = [c for c in constraints if isinstance(c, RigidPlate)]
+        if len(plates) > 1:
+            raise ValueError("RigidPlate: at most one plate per model")
         for c in constraints:
             ids = np.asarray(c.nodes)
             if ids.min() < 0 or ids.max() >= nn:
@@ -232,9 +237,21 @@ class Model:
                 bc[ids] |= _ROT
                 rgroup[ids] = len(rots)
                 rots.append(c)
+            elif isinstance(c, RigidPlate):
+                if np.any(bc[ids] & (_HELD | _ROT)):
+                    raise ValueError("RigidPlate: nodes already held or rotated")
+                bc[ids] |= _PLATE
             else:
                 raise TypeError(f"unknown constraint {type(c).__name__}")
         self.rotations = rots
+        self.plate = plates[0] if plates else None
+        self.n_plate = len(self.plate.nodes) if plates else 0
+        self.plate_node = _scalar_field(self.n_plate, ti.i32)
+        self.plate_dir = ti.Vector.field(2, ti.f64, shape=())
+        self.plate_v = ti.field(ti.f64, shape=())
+        if plates:
+            self.plate_node.from_numpy(self.plate.nodes.astype(np.int32))
+            self.plate_dir[None] = self.plate.direction
         self.bc.from_numpy(bc)
         self.held_dir.from_numpy(held)
         self.rot_group.from_numpy(rgroup)
@@ -381,6 +398,29 @@ class Model:
             self.f_extra[self.load_node[k]] += amp * self.load_force[k]
 
     @ti.func
+    def _plate_update(self, dt_v, c_mass):
+        # The plate's one velocity: total force along its direction over its total mass
+        # (element forces gathered as the node loop does, plus loads and contributors).
+        if ti.static(self.n_plate > 0):
+            d = self.plate_dir[None]
+            f_sum = 0.0
+            m_sum = 0.0
+            for k in range(self.n_plate):
+                i = self.plate_node[k]
+                f = self.f_extra[i]
+                for s in range(self.adj_ptr[i], self.adj_ptr[i + 1]):
+                    f += self.fe[self.adj[s]]
+                f_sum += f.dot(d)
+                m_sum += self.mass[i]
+            vo = self.v[self.plate_node[0]].dot(d)
+            vn = vo + dt_v * f_sum / m_sum
+            if c_mass > 0.0:
+                vn = ((1.0 - 0.5 * c_mass * dt_v) * vo + dt_v * f_sum / m_sum) / (
+                    1.0 + 0.5 * c_mass * dt_v
+                )
+            self.plate_v[None] = vn
+
+    @ti.func
     def _node(self, i, t_rot, dt, dt_v, first, c_mass, rec):
         f_int = ti.Vector.zero(ti.f64, 2)
         for s in range(self.adj_ptr[i], self.adj_ptr[i + 1]):
@@ -397,6 +437,8 @@ class Model:
         if flag & _HELD:
             d = self.held_dir[i]
             vn -= vn.dot(d) * d
+        if flag & _PLATE:
+            vn = self.plate_v[None] * self.plate_dir[None]
         xn = xo + dt * vn
         if flag & _ROT:
             g = self.rot_group[i]
@@ -452,6 +494,7 @@ class Model:
         ti.loop_config(serialize=True)  # loads: few entries, fixed order (reproducible)
         for _ in range(1):
             self._apply_loads(t_load)
+            self._plate_update(dt_v, c_mass)
         ti.loop_config(serialize=serial)
         for i in range(self.n_nodes):
             self._node(i, t_rot, dt, dt_v, first, c_mass, rec)
@@ -528,6 +571,7 @@ class Model:
             for e in range(self.n_elements):
                 self._element(e, dt, damped, rec)
             self._apply_loads(t_load)
+            self._plate_update(dt_v, c_mass)
             for i in range(self.n_nodes):
                 self._node(i, t_rot, dt, dt_v, first, c_mass, rec)
             for s in range(self.n_sensor):

@@ -1,0 +1,350 @@
+"""The bearing run: mesh -> preload -> spin -> transient -> checks, summary, figures, report.
+
+:func:`run_case` is what ``python -m taichi_bearing CASE.yaml`` does. Each stage takes the
+plain data of the one before: the case, the mesh (:mod:`taichi_bearing.mesh`), the set-up
+(:mod:`taichi_bearing.starter`), the Taichi model and its time loop
+(:mod:`taichi_bearing.solver`), the histories on disk, the checks
+(:mod:`taichi_bearing.checks`). The run folder follows ``notes/rundir.md``:
+``case.yaml``, ``mesh_statistics.json``, ``preload.json``, ``histories.parquet``,
+``frames/``, ``checkpoints/``, ``summary.json``, figures and report.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import json
+import math
+import time
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+import yaml
+
+from diagnostics.files import to_jsonable, write_json
+from taichi_bearing.case import Case, case_to_dict
+from taichi_bearing.errors import InputError, SimulationError
+from taichi_bearing.mesh import build_bearing_mesh, mesh_statistics, spec_from_case
+from taichi_bearing.mesh.types import Mesh
+from taichi_bearing.output.checkpoint import fingerprint, latest_checkpoint
+from taichi_bearing.output.histories import read_histories
+from taichi_bearing.output.summary import write_summary
+from taichi_bearing.recorders import CageRecorder, ContactForceRecorder, RollerMotionRecorder
+from taichi_bearing.starter import Setup, align_rollers, build_setup
+
+__all__ = ["BearingModel", "build_model", "run_case", "preload", "stage_mesh"]
+
+PRELOAD_FILE = "preload.json"
+
+
+@dataclass
+class BearingModel:
+    """The live model of a bearing case: Taichi model, contact, cage and recorders."""
+
+    case: Case
+    mesh: Mesh
+    setup: Setup
+    model: object  # taichi_bearing.solver.Model
+    contact: object | None
+    cage: object | None
+    recorders: list = field(default_factory=list)
+
+
+def stage_mesh(case: Case) -> tuple[Mesh, dict]:
+    """Mesh the case (rollers aligned, :func:`~taichi_bearing.starter.align_rollers`);
+    return the mesh and its statistics as a plain dict."""
+    mesh = align_rollers(build_bearing_mesh(spec_from_case(case)), case.bearing.n_rollers)
+    m = case.material
+    stats = mesh_statistics(mesh, m.youngs_modulus, m.poissons_ratio, m.density)
+    return mesh, to_jsonable(dataclasses.asdict(stats))
+
+
+def _contact_classes():
+    """PenaltyContact and RigidCage when their modules are present (None otherwise)."""
+    try:
+        from taichi_bearing.solver.contact import PenaltyContact
+    except ImportError:
+        PenaltyContact = None  # noqa: N806
+    try:
+        from taichi_bearing.solver.cage import RigidCage
+    except ImportError:
+        RigidCage = None  # noqa: N806
+    return PenaltyContact, RigidCage
+
+
+def _make_cage(RigidCage, model, mesh, case):  # noqa: N803
+    """A rigid cage with the mesh's pocket geometry (constructor of solver/cage.py)."""
+    import inspect
+
+    params = inspect.signature(RigidCage).parameters
+    kwargs = {}
+    if "mesh" in params:
+        kwargs["mesh"] = mesh
+    if "case" in params:
+        kwargs["case"] = case
+    if "mass" in params:
+        kwargs["mass"] = case.cage.mass
+    if "info" in params:
+        kwargs["info"] = mesh.info["cage"]
+    if "params" in params:
+        from taichi_bearing.solver.contact_setup import ContactParameters
+
+        kwargs["params"] = ContactParameters.from_case(case.contact)
+    return RigidCage(model, **kwargs)
+
+
+def build_model(case: Case, mesh: Mesh, arch: str = "cpu", threads: int | None = None):
+    """Start Taichi and build the model, contact, cage and recorders of a case."""
+    from taichi_bearing.solver import Model, init_taichi
+
+    init_taichi(arch, threads)
+    setup = build_setup(case, mesh)
+    model = Model(
+        mesh,
+        setup.material,
+        thickness=setup.thickness,
+        constraints=setup.constraints,
+        loads=setup.loads,
+        initial_velocities=setup.initial_velocities,
+        damping=setup.damping,
+    )
+    PenaltyContact, RigidCage = _contact_classes()  # noqa: N806
+    if PenaltyContact is None:
+        raise SimulationError(
+            "contact is not available (taichi_bearing.solver.contact missing): the rollers "
+            "cannot be loaded"
+        )
+    contact = PenaltyContact(model, setup.contact_pairs, setup.contact_params)
+    model.contributors.append(contact)
+    cage = None
+    if RigidCage is not None and case.cage.model == "rigid":
+        cage = _make_cage(RigidCage, model, mesh, case)
+        if cage not in model.contributors:
+            model.contributors.append(cage)
+    rollers = RollerMotionRecorder(mesh, model.mass_np, setup.n_rollers)
+    recorders = [
+        ContactForceRecorder(contact, setup.n_rollers),
+        rollers,
+        CageRecorder(cage, rollers),
+    ]
+    return BearingModel(case, mesh, setup, model, contact, cage, recorders)
+
+
+def preload(bm: BearingModel) -> dict:
+    """Dynamic relaxation under the load with nothing turning; the static contact forces.
+
+    Returns
+    -------
+    dict
+        ``steps``, ``ke_ratio``, ``converged``, ``outer_force_N`` and ``inner_force_N``
+        (normal force of each roller on each raceway at the end), ``plate_drop_m``.
+    """
+    from taichi_bearing.solver import relax
+
+    case, model = bm.case, bm.model
+    res = relax(model, case.preload.ke_ratio_tol, case.preload.max_steps)
+    if not res.converged:
+        raise SimulationError(
+            f"preload did not converge in {res.steps} steps (KE ratio {res.ke_ratio:.3g} > "
+            f"{case.preload.ke_ratio_tol:g}); raise preload.max_steps or check the load"
+        )
+    forces = np.asarray(bm.contact.current_resultants()).reshape(bm.setup.n_rollers, 2, 4)
+    top = bm.mesh.node_sets["adapter_top"]
+    drop = float(-np.mean(model.displacements()[top, 1]))
+    return {
+        "steps": res.steps,
+        "ke_ratio": res.ke_ratio,
+        "converged": res.converged,
+        "outer_force_N": forces[:, 0, 2].tolist(),
+        "inner_force_N": forces[:, 1, 2].tolist(),
+        "outer_fx_N": forces[:, 0, 0].tolist(),
+        "outer_fy_N": forces[:, 0, 1].tolist(),
+        "plate_drop_m": drop,
+    }
+
+
+def _fingerprint(case: Case, mesh: Mesh) -> str:
+    d = case_to_dict(case)
+    d.pop("output", None)
+    d["run"] = {k: v for k, v in d["run"].items() if k not in ("arch", "threads")}
+    return fingerprint(d, mesh.nodes, mesh.elements)
+
+
+def _write_case(case: Case, out: Path) -> None:
+    from diagnostics.files import atomic_path
+
+    path = out / "case.yaml"
+    with atomic_path(path) as tmp:
+        Path(tmp).write_text(yaml.safe_dump(case_to_dict(case), sort_keys=False))
+
+
+def run_case(
+    case: Case,
+    out_dir: str | Path | None = None,
+    *,
+    resume: bool = False,
+    arch: str | None = None,
+    threads: int | None = None,
+    quiet: bool = False,
+    post: bool = True,
+    log=print,
+) -> dict:
+    """Run a case end to end and write its run folder.
+
+    Parameters
+    ----------
+    case : Case
+    out_dir : path, optional
+        Run folder (default ``case.out_dir``).
+    resume : bool
+        Continue from the last checkpoint in ``out_dir/checkpoints`` (no preload).
+    arch, threads : optional
+        Override ``run.arch`` / ``run.threads``.
+    quiet : bool
+        No progress bar and no stage lines.
+    post : bool
+        Make figures and the report (when their modules are present).
+    log : callable
+        Where stage lines go.
+
+    Returns
+    -------
+    dict
+        The summary written to ``summary.json``.
+
+    Raises
+    ------
+    SimulationError
+        The run stopped (instability, preload not converged); files so far are kept.
+    KeyboardInterrupt
+        After the histories up to that point and a partial summary have been written.
+    """
+    from taichi_bearing.checks import run_checks
+    from taichi_bearing.solver import RunConfig, run_transient
+
+    say = (lambda *a: None) if quiet else log
+    out = Path(out_dir) if out_dir is not None else case.out_dir
+    out.mkdir(parents=True, exist_ok=True)
+    arch = arch or case.run.arch
+    threads = case.run.threads if threads is None else threads
+    times: dict[str, float] = {}
+    summary: dict = {"case_name": case.name, "stage_times_s": times, "status": "running"}
+
+    t0 = time.perf_counter()
+    mesh, stats = stage_mesh(case)
+    _write_case(case, out)
+    write_json(out / "mesh_statistics.json", stats)
+    times["mesh"] = time.perf_counter() - t0
+    say(f"mesh: {mesh.n_elements} elements, {mesh.n_nodes} nodes ({times['mesh']:.1f} s)")
+
+    t0 = time.perf_counter()
+    bm = build_model(case, mesh, arch, threads)
+    model = bm.model
+    times["model"] = time.perf_counter() - t0
+    say(f"model: dt {model.dt_stable:.3g} s, damping step factor {model.damping_step_factor:.3f}")
+
+    if resume:
+        pre_path = out / PRELOAD_FILE
+        if latest_checkpoint(out / "checkpoints") is None or not pre_path.is_file():
+            raise InputError(f"--resume: no checkpoint or {PRELOAD_FILE} in {out}")
+        pre = json.loads(pre_path.read_text())
+        times["preload"] = float(pre.get("wall_s", 0.0))
+    else:
+        t0 = time.perf_counter()
+        pre = preload(bm)
+        pre["wall_s"] = times["preload"] = time.perf_counter() - t0
+        write_json(out / PRELOAD_FILE, pre)
+        say(
+            f"preload: {pre['steps']} steps, KE ratio {pre['ke_ratio']:.2g}, "
+            f"max roller force {max(pre['outer_force_N']):.4g} N ({times['preload']:.1f} s)"
+        )
+        model.set_initial_velocities()  # ideal rolling from the preloaded positions
+        if hasattr(bm.contact, "reset_dissipation"):
+            bm.contact.reset_dissipation()
+
+    config = RunConfig(
+        duration=case.run.duration,
+        sample_rate=case.run.sample_rate,
+        frame_interval=case.run.frame_interval if case.output.frames else None,
+        checkpoint_interval=case.run.checkpoint_interval,
+        csv=case.output.csv,
+        progress=False if quiet else None,
+    )
+    t0 = time.perf_counter()
+    interrupted = None
+    try:
+        result = run_transient(
+            model, config, out, resume=resume, fingerprint=_fingerprint(case, mesh),
+            recorders=bm.recorders,
+        )  # fmt: skip
+    except (KeyboardInterrupt, SimulationError) as exc:
+        interrupted = exc
+        result = None
+    times["transient"] = time.perf_counter() - t0
+    summary.update(
+        {
+            "n_elements": mesh.n_elements,
+            "n_nodes": mesh.n_nodes,
+            "dt_s": model.dt,
+            "n_steps": int(model.step_count),
+            "wall_time_s": times["transient"],
+            "element_steps_per_s": (
+                mesh.n_elements * (result.steps if result else model.step_count)
+                / max(times["transient"], 1e-9)
+            ),
+            "mesh_statistics": stats,
+            "preload": pre,
+            "setup_notes": bm.setup.notes,
+        }
+    )  # fmt: skip
+    if interrupted is not None:
+        summary["status"] = (
+            "interrupted" if isinstance(interrupted, KeyboardInterrupt) else "stopped"
+        )
+        summary["stop_reason"] = str(interrupted) or type(interrupted).__name__
+        _write_partial(out, summary)
+        raise interrupted
+    say(
+        f"transient: {result.steps} steps in {times['transient']:.1f} s "
+        f"({summary['element_steps_per_s']:.3g} element-steps/s)"
+    )
+
+    t0 = time.perf_counter()
+    hist = read_histories(out)
+    summary.update(run_checks(case, mesh.info, hist, pre))
+    summary["status"] = "finished"
+    times["post"] = time.perf_counter() - t0
+    write_summary(out, summary)
+    if post:
+        _figures_and_report(out, say)
+        times["post"] = time.perf_counter() - t0
+        write_summary(out, summary)
+    failed = [k for k, c in summary["checks"].items() if c["passed"] is False]
+    say(f"checks: {len(summary['checks']) - len(failed)} passed, failed: {failed or 'none'}")
+    return summary
+
+
+def _write_partial(out: Path, summary: dict) -> None:
+    import warnings
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")  # the missing keys are listed in the file
+        write_summary(out, summary)
+
+
+def _figures_and_report(out: Path, say) -> None:
+    """Figures and report by ``taichi_bearing.post`` when those modules are present."""
+    for module, func in (("run_figures", "make_run_figures"), ("report", "write_report")):
+        try:
+            mod = __import__(f"taichi_bearing.post.{module}", fromlist=[func])
+        except ImportError:
+            say(f"post: taichi_bearing.post.{module} not available, skipped")
+            continue
+        try:
+            getattr(mod, func)(out)
+        except Exception as exc:  # noqa: BLE001 - the run's results stand without them
+            say(f"post: {func} failed: {type(exc).__name__}: {exc}")
+
+
+def nan_to_none(x: float) -> float | None:
+    return None if x is None or not math.isfinite(x) else float(x)
