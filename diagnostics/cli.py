@@ -1,7 +1,8 @@
-"""Command line of ``diagnostics``: ``python -m diagnostics analyze FILE ...``.
+"""Command line of ``diagnostics``: ``python -m diagnostics analyze|compare ...``.
 
 Each subcommand is a pair ``add_<name>_arguments(parser)`` / ``run_<name>(args) -> int``
-registered in ``COMMANDS``; a later ``compare`` subcommand slots in the same way. Bad input
+registered in ``COMMANDS``: ``analyze`` (one record) and ``compare`` (a simulated run
+folder against measured records, :mod:`diagnostics.compare`). Bad input
 is reported as one line on stderr with exit status 2, never a traceback.
 """
 
@@ -13,11 +14,8 @@ import re
 import sys
 from pathlib import Path
 
-import numpy as np
-from scipy import signal as sp_signal
-
+from diagnostics.compare import impact_times
 from diagnostics.diagnose import Diagnosis, diagnose
-from diagnostics.envelope import envelope
 from diagnostics.files import atomic_path, write_json
 from diagnostics.filters import notch_filter
 from diagnostics.frequencies import BearingGeometry
@@ -111,17 +109,6 @@ def add_analyze_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--out", type=Path, help="output folder (default: FILE_STEM-diagnostics)")
 
 
-def _impact_times(x, fs: float, band: tuple[float, float], rate_hz: float) -> np.ndarray:
-    """Times of the strongest envelope burst per fault period, for marking figures."""
-    lo, hi = band
-    env = envelope(x, fs, band=(max(lo, 1e-3 * fs), hi) if lo > 0 or hi < fs / 2 else None)
-    peaks, props = sp_signal.find_peaks(env, distance=max(int(0.6 * fs / rate_hz), 1), height=0)
-    if peaks.size == 0:
-        return np.empty(0)
-    keep = props["peak_heights"] >= 0.5 * np.median(props["peak_heights"])
-    return peaks[keep] / fs
-
-
 def _markers(d: Diagnosis) -> dict[str, float]:
     """Comb fundamentals to mark: where a family was detected, the frequency found (slip
     included), else the kinematic one."""
@@ -137,10 +124,14 @@ def _markers(d: Diagnosis) -> dict[str, float]:
     return out
 
 
-def _save(fig, path: Path) -> str:
+def save_figure(fig, path: Path) -> str:
+    """Save a matplotlib Figure as PNG atomically; returns the file name."""
     with atomic_path(path) as tmp:
         fig.savefig(tmp, format="png", dpi=110)
     return path.name
+
+
+_save = save_figure
 
 
 def _figures(x, fs: float, d: Diagnosis, notch: list[float], raw, out: Path) -> list[str]:
@@ -151,7 +142,7 @@ def _figures(x, fs: float, d: Diagnosis, notch: list[float], raw, out: Path) -> 
     events = None
     if d.fault != "none":
         rate = {"outer": freqs.bpfo, "inner": freqs.bpfi, "ball": 2.0 * freqs.bsf}[d.fault]
-        times = _impact_times(x[:n_show], fs, d.band, rate)
+        times = impact_times(x[:n_show], fs, d.band, rate)
         events = {f"{d.fault} impacts": times}
     best = d.best_band
     written = [
@@ -284,11 +275,94 @@ def _print_summary(sig, rpm: float, d: Diagnosis, out: Path, n_files: int) -> No
     print("\n".join(lines))
 
 
+def add_compare_arguments(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument(
+        "run_dir",
+        metavar="SIMULATED_RUN_DIR",
+        type=Path,
+        help="run folder of python -m taichi_bearing (summary.json, histories.parquet)",
+    )
+    parser.add_argument(
+        "measured",
+        metavar="MEASURED_FILE",
+        nargs="+",
+        type=Path,
+        help="measured vibration record(s) (csv, txt, wav, mat, ...)",
+    )
+    parser.add_argument("--fs", type=float, help="sampling rate of the measured records, Hz")
+    parser.add_argument(
+        "--rpm", type=float, help="shaft speed of the measured records (default: from the file)"
+    )
+    parser.add_argument(
+        "--bearing",
+        help="measured bearing: n=ROLLERS,d=ROLLER_DIAMETER,D=PITCH_DIAMETER[,angle=DEG] "
+        "(default: the simulated bearing, from the run's summary.json geometry)",
+    )
+    parser.add_argument("--channel", help="column, variable or key of the measured records")
+    parser.add_argument("--sensor", help="sensor of the simulated run (default: the first)")
+    parser.add_argument("--out", type=Path, help="output folder (default: RUN_DIR/compare)")
+
+
+def _run_geometry(run_dir: Path) -> BearingGeometry:
+    """The simulated bearing from the run's summary.json, for measured records of it."""
+    import json
+
+    g = json.loads((run_dir / "summary.json").read_text()).get("geometry") or {}
+    try:
+        return BearingGeometry(
+            int(g["n_rollers"]),
+            float(g["roller_diameter_m"]),
+            float(g["pitch_diameter_m"]),
+            float(g.get("contact_angle_deg", 0)),
+        )
+    except (KeyError, TypeError):
+        raise UsageError(
+            f"{run_dir / 'summary.json'} holds no geometry; give --bearing for the measured data"
+        ) from None
+
+
+def run_compare(args: argparse.Namespace) -> int:
+    from diagnostics import compare
+
+    if args.fs is not None and not (math.isfinite(args.fs) and args.fs > 0):
+        raise UsageError(f"--fs must be a positive frequency in Hz, got {args.fs:g}")
+    if args.rpm is not None and not (math.isfinite(args.rpm) and args.rpm > 0):
+        raise UsageError(f"--rpm must be a positive speed, got {args.rpm:g}")
+    if not args.run_dir.is_dir():
+        raise UsageError(f"{args.run_dir}: not a folder (give a simulated run folder)")
+    sim = compare.read_run_record(args.run_dir, args.sensor)
+    geometry = parse_bearing(args.bearing) if args.bearing else _run_geometry(args.run_dir)
+    records = [sim] + [
+        compare.measured_record(path, geometry, rpm=args.rpm, fs=args.fs, channel=args.channel)
+        for path in args.measured
+    ]
+    analyses = [compare.analyse(r) for r in records]
+    out = args.out if args.out is not None else args.run_dir / "compare"
+    figures = compare.compare_figures(records, analyses, out)
+    summary = compare.compare_summary(records, analyses)
+    summary["figures"] = figures
+    write_json(out / "summary.json", summary)
+    for it in summary["records"]:
+        ratios = ", ".join(f"{v:.3g}" for v in it["bpfo_harmonic_ratios"])
+        print(
+            f"{it['label']}: {it['fs_hz']:g} Hz, {it['duration_s']:.3g} s "
+            f"({it['bpfo_periods']:.3g} BPFO periods), BPFO {it['bpfo_hz']:.4g} Hz, band "
+            f"{it['band_hz'][0]:.0f}-{it['band_hz'][1]:.0f} Hz, BPFO x1..5 / median: {ratios}"
+        )
+    print(f"wrote {len(figures) + 1} files to {out}")
+    return 0
+
+
 COMMANDS = {
     "analyze": (
         "diagnose one vibration record: figures, summary.json and a verdict",
         add_analyze_arguments,
         run_analyze,
+    ),
+    "compare": (
+        "measured against simulated: one pipeline, figures side by side, summary.json",
+        add_compare_arguments,
+        run_compare,
     ),
 }
 

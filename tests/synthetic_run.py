@@ -31,7 +31,7 @@ from taichi_bearing.output.summary import write_summary
 
 ROOT = Path(__file__).resolve().parents[1]
 CASE = ROOT / "cases" / "line_spall.yaml"
-OVERRIDES = ("mesh.surface_size_mm=3", "mesh.max_size_mm=6", "run.duration_ms=45")
+OVERRIDES = ("mesh.surface_size_mm=3", "mesh.max_size_mm=6", "run.frame_interval_ms=0.5")
 
 
 @dataclass
@@ -59,11 +59,14 @@ def make_synthetic_run(
     fs: float = 100e3,
     frames: bool = True,
     seed: int = 0,
+    duration_ms: float = 45.0,
 ) -> SyntheticTruth:
-    """Write a synthetic run folder into ``run_dir``; return what it holds."""
+    """Write a synthetic run folder into ``run_dir``; return what it holds. A short
+    ``duration_ms`` cuts the record (events after its end stay in the summary)."""
     run_dir = Path(run_dir)
     run_dir.mkdir(parents=True, exist_ok=True)
-    raw = apply_overrides(yaml.safe_load(CASE.read_text()), OVERRIDES)
+    overrides = (*OVERRIDES, f"run.duration_ms={duration_ms}")
+    raw = apply_overrides(yaml.safe_load(CASE.read_text()), overrides)
     case = parse_case(raw, source=CASE)
     (run_dir / "case.yaml").write_text(yaml.safe_dump(raw, sort_keys=False))
 
@@ -103,6 +106,8 @@ def make_synthetic_run(
         inner_fn[j] = 1.02 * q * (1.0 - 0.8 * drop) + 0.5 * burst
         accel -= 50.0 * np.exp(-(((t - te - 5e-4) / 4e-4) ** 2))
         after = t >= tx
+        if not after.any():
+            continue
         dt = t[after] - tx
         # a smooth onset (30 us rise) keeps the ring's energy near its 20 kHz resonance
         ring = (1.0 - np.exp(-dt / 3e-5)) * np.exp(-dt / 3e-4) * np.sin(2 * np.pi * ring_hz * dt)
@@ -216,7 +221,7 @@ def _write_frames(run_dir: Path, case) -> dict:
     dist = np.min([np.hypot(*(centroids - p).T) for p in contacts], axis=0)
     von_mises = 900e6 * np.exp(-((dist / 4e-3) ** 2))
     writer = FrameWriter(run_dir, mesh)
-    for k, time in enumerate((0.0, 0.02, 0.045)):
+    for k, time in enumerate(np.linspace(0.0, case.run.duration, 3)):
         dent = 5e-6 * (k + 1) * np.exp(-(((theta - a) * r / 8e-3) ** 2))
         u = np.column_stack([-dent * np.cos(theta), -dent * np.sin(theta)])
         u[:, 1] -= 2e-6 * (k + 1)

@@ -25,15 +25,19 @@ from diagnostics import envelope_spectrum, kurtogram, notch_filter, psd
 from diagnostics import plots as dplots
 from diagnostics.diagnose import kurtogram_band
 from diagnostics.files import atomic_path, write_json
+from diagnostics.resolution import (
+    choose_nlevel,
+    choose_nperseg,
+    choose_sk_windows,
+    third_octave_f_min,
+)
 from taichi_bearing.post.run_data import RunData, load_run, passage_events, sensor_acceleration
 
 __all__ = [
     "FIGURE_NAMES",
     "make_run_figures",
     "notch_attenuation",
-    "choose_nperseg",
-    "choose_nlevel",
-    "choose_sk_windows",
+    "draw_run_figure",
 ]
 
 FIGURE_NAMES = (
@@ -51,26 +55,6 @@ ENTRY_LABEL = "entry (de-stressing)"
 EXIT_LABEL = "exit (re-stressing)"
 NOTCH_Q = 30.0
 _ROLLER_COLOURS = ("tab:blue", "tab:orange", "tab:green", "tab:purple", "tab:brown", "tab:pink")
-
-
-# --------------------------------------------------------------------------- resolutions
-
-
-def choose_nperseg(n: int, target: int = 256, min_frames: int = 32) -> int:
-    """STFT window: ``target`` samples, or a power of two giving ``min_frames`` windows."""
-    fit = 2 ** int(math.floor(math.log2(max(n / min_frames, 16))))
-    return int(max(16, min(target, fit)))
-
-
-def choose_sk_windows(n: int, candidates=(64, 128, 256, 512, 1024), min_frames: int = 16):
-    """Spectral-kurtosis windows with at least ``min_frames`` frames; never empty."""
-    ok = [w for w in candidates if n >= min_frames * w]
-    return ok or [choose_nperseg(n, target=candidates[0], min_frames=min_frames)]
-
-
-def choose_nlevel(n: int, max_level: int = 7) -> int:
-    """Fast kurtogram levels the record allows (``2**(nlevel+7)`` samples); 0 if none."""
-    return int(max(0, min(max_level, math.floor(math.log2(max(n, 1))) - 7)))
 
 
 # --------------------------------------------------------------------------- helpers
@@ -175,11 +159,18 @@ def _acceleration(run: RunData, x, label, marks) -> tuple[Figure, str, dict]:
     top, bottom = fig.subplots(2, 1)
     dplots.plot_time_trace(x, run.fs, marks, ax=top, unit="m/s^2")
     top.set_title(f"{label}: whole record")
+    duration = x.size / run.fs
     entries, exits = marks[ENTRY_LABEL], marks[EXIT_LABEL]
+    # The first passage wholly inside the record (entry and a later exit).
+    passage = [
+        (float(te), float(exits[exits >= te][0]))
+        for te in entries
+        if te >= 0.0 and np.any((exits >= te) & (exits < duration))
+    ]
     values: dict = {}
-    if entries.size and exits.size:
+    if passage:
         # Zoom on the first passage: the gradual entry against the burst at exit.
-        t_in, t_out = float(entries[0]), float(exits[exits >= entries[0]][0])
+        t_in, t_out = passage[0]
         sep = max(t_out - t_in, 1.0 / run.fs)
         a = max(int((t_in - 0.5 * sep) * run.fs), 0)
         b = min(int((t_out + 1.0 * sep) * run.fs), x.size)
@@ -205,8 +196,8 @@ def _acceleration(run: RunData, x, label, marks) -> tuple[Figure, str, dict]:
         )
     else:
         bottom.set_axis_off()
-        bottom.text(0.5, 0.5, "no spall passage in summary.json events", ha="center")
-        caption = f"{label}; no spall passage recorded."
+        bottom.text(0.5, 0.5, "no complete spall passage in the record", ha="center")
+        caption = f"{label}; no complete spall passage in the record."
     values["rms_m_s2"] = float(np.sqrt(np.mean(x**2)))
     values["peak_m_s2"] = float(np.max(np.abs(x)))
     return fig, caption, values
@@ -292,6 +283,7 @@ def _spectrogram(run, x, marks):
 def _spectral_kurtosis(run, x):
     nws = choose_sk_windows(x.size)
     fig = dplots.plot_spectral_kurtosis(x, run.fs, nws=nws)
+    fig.axes[0].legend(loc="upper right", fontsize="small")
     _note(
         fig,
         f"windows {', '.join(map(str, nws))} samples: those giving at least 16 frames "
@@ -307,8 +299,7 @@ def _spectral_kurtosis(run, x):
 def _kurtogram(run, x):
     nlevel = choose_nlevel(x.size)
     if nlevel < 1:
-        msg = f"record too short for a kurtogram: {x.size} samples, need at least 256"
-        return _placeholder("Fast kurtogram", msg), msg, {"nlevel": 0}, None
+        raise ValueError(f"record too short for a kurtogram: {x.size} samples, need 256")
     kg = kurtogram(x, run.fs, nlevel=nlevel)
     fig = dplots.plot_kurtogram(kg)
     _note(fig, f"nlevel {nlevel}: the most the {x.size}-sample record allows (max 7)")
@@ -385,6 +376,7 @@ def _psd_notch(run, x):
     rows = notch_attenuation(x, run.fs, freqs, nperseg=nperseg)
     ax = fig.axes[0]
     ax.set_ylabel("PSD ((m/s^2)^2/Hz)")
+    ax.legend(loc="upper right", fontsize="small")
     for r in rows:
         if math.isfinite(r["attenuation_db"]):
             ax.annotate(
@@ -414,8 +406,7 @@ def _psd_notch(run, x):
 
 def _third_octave(run, x):
     duration = x.size / run.fs
-    # A third-octave band is 0.23 fc wide; keep those spanning at least 4 spectral bins.
-    f_min = max(20.0, 4.0 / (0.2316 * duration))
+    f_min = third_octave_f_min(duration)
     fig = dplots.plot_third_octave(x, run.fs, f_min=f_min)
     fig.axes[0].set_ylabel("level (dB re 1 m/s^2)")
     _note(
@@ -492,6 +483,53 @@ def _spall_view(run: RunData):
 # --------------------------------------------------------------------------- driver
 
 
+def _builders(run: RunData, sensor: str | None) -> dict[str, Callable]:
+    """Drawing function of each matplotlib figure, in order (the envelope spectrum uses the
+    kurtogram's band, so the kurtogram comes first)."""
+    x, label = sensor_acceleration(run, sensor)
+    marks = _event_marks(run)
+    kg_holder: dict = {}
+
+    def kurto():
+        fig, cap, val, kg = _kurtogram(run, x)
+        kg_holder["kg"] = kg
+        return fig, cap, val
+
+    def env():
+        if "kg" not in kg_holder and choose_nlevel(x.size) >= 1:
+            kg_holder["kg"] = kurtogram(x, run.fs, nlevel=choose_nlevel(x.size))
+        return _envelope(run, x, kg_holder.get("kg"))
+
+    return {
+        "acceleration": lambda: _acceleration(run, x, label, marks),
+        "contact_forces": lambda: _contact_forces(run),
+        "spectrogram": lambda: _spectrogram(run, x, marks),
+        "spectral_kurtosis": lambda: _spectral_kurtosis(run, x),
+        "kurtogram": kurto,
+        "envelope_spectrum": env,
+        "psd_notch": lambda: _psd_notch(run, x),
+        "third_octave": lambda: _third_octave(run, x),
+    }
+
+
+def draw_run_figure(
+    run_dir: str | os.PathLike, name: str, sensor: str | None = None
+) -> tuple[Figure, str, dict]:
+    """One matplotlib figure of a run, not saved: ``(figure, caption, numbers)``.
+
+    ``name`` is one of :data:`FIGURE_NAMES` except ``deformed_spall`` (a pyvista render).
+
+    Raises
+    ------
+    ValueError
+        For an unknown name, or when the record is too short for the analysis.
+    """
+    builders = _builders(load_run(run_dir), sensor)
+    if name not in builders:
+        raise ValueError(f"unknown figure {name!r}; one of {', '.join(builders)}")
+    return builders[name]()
+
+
 def make_run_figures(run_dir: str | os.PathLike, sensor: str | None = None) -> dict[str, Path]:
     """Draw every figure of a run into ``run_dir/figures``.
 
@@ -513,25 +551,8 @@ def make_run_figures(run_dir: str | os.PathLike, sensor: str | None = None) -> d
     run = load_run(run_dir)
     out = run.run_dir / "figures"
     out.mkdir(parents=True, exist_ok=True)
+    builders = _builders(run, sensor)
     x, label = sensor_acceleration(run, sensor)
-    marks = _event_marks(run)
-    kg_holder: dict = {}
-
-    def kurto():
-        fig, cap, val, kg = _kurtogram(run, x)
-        kg_holder["kg"] = kg
-        return fig, cap, val
-
-    builders: dict[str, Callable[[], tuple[Figure, str, dict]]] = {
-        "acceleration": lambda: _acceleration(run, x, label, marks),
-        "contact_forces": lambda: _contact_forces(run),
-        "spectrogram": lambda: _spectrogram(run, x, marks),
-        "spectral_kurtosis": lambda: _spectral_kurtosis(run, x),
-        "kurtogram": kurto,
-        "envelope_spectrum": lambda: _envelope(run, x, kg_holder.get("kg")),
-        "psd_notch": lambda: _psd_notch(run, x),
-        "third_octave": lambda: _third_octave(run, x),
-    }
     paths: dict[str, Path] = {}
     meta: dict = {
         "sensor": label,

@@ -1,0 +1,440 @@
+"""``write_report(run_dir)``: ``report.md`` and ``report.html`` of a run folder.
+
+Every number comes from the run folder: ``summary.json``, ``case.yaml``,
+``mesh_statistics.json`` and ``figures/figures.json`` (written with the figures by
+:func:`taichi_bearing.post.run_figures.make_run_figures`, which is run first if the figures
+are missing). The report is built once as a list of blocks (headings, paragraphs, tables,
+figures) and rendered twice: Markdown with linked pictures, and a self-contained HTML page
+with the pictures inline as base64 data URIs (no dependency beyond the standard library).
+"""
+
+from __future__ import annotations
+
+import base64
+import html
+import json
+import math
+import os
+import re
+from dataclasses import dataclass
+from pathlib import Path
+
+import yaml
+
+from diagnostics.files import atomic_path
+from taichi_bearing.post.run_data import passage_events
+
+__all__ = ["SECTIONS", "fmt", "report_blocks", "write_report"]
+
+SECTIONS = (
+    "Case",
+    "Mesh",
+    "Stages and times",
+    "Static load distribution",
+    "Checks",
+    "Spall passages",
+    "Numerical noise and notch filters",
+    "Spectral analysis",
+    "Defect size",
+    "Deformed mesh at the spall",
+)
+
+
+def fmt(value, digits: int = 4) -> str:
+    """A number as the report prints it: ``digits`` significant figures; '-' for none."""
+    if value is None:
+        return "-"
+    if isinstance(value, bool):
+        return "yes" if value else "no"
+    if isinstance(value, int):
+        return str(value)
+    if isinstance(value, float):
+        if not math.isfinite(value):
+            return "-"
+        return f"{value:.{digits}g}"
+    return str(value)
+
+
+def _pct(a, b) -> str:
+    """Relative difference (a - b) / b in percent."""
+    if a is None or b is None or not b:
+        return "-"
+    return f"{100.0 * (float(a) - float(b)) / float(b):+.2f} %"
+
+
+@dataclass
+class Heading:
+    text: str
+    level: int = 2
+
+
+@dataclass
+class Para:
+    text: str
+
+
+@dataclass
+class Table:
+    header: list[str]
+    rows: list[list[str]]
+
+
+@dataclass
+class Image:
+    path: Path
+    caption: str
+
+
+# --------------------------------------------------------------------------- sections
+
+
+def _flatten(d: dict, prefix: str = "") -> list[tuple[str, object]]:
+    out = []
+    for k, v in d.items():
+        key = f"{prefix}{k}"
+        if isinstance(v, dict):
+            out += _flatten(v, key + ".")
+        else:
+            out.append((key, v))
+    return out
+
+
+def _case(case: dict) -> list:
+    if not case:
+        return [Para("case.yaml is missing from the run folder.")]
+    rows = [[k, fmt(v)] for k, v in _flatten(case)]
+    return [Table(["key", "value"], rows)]
+
+
+def _group_parts(d: dict) -> str:
+    rollers = {k: v for k, v in d.items() if re.fullmatch(r"roller\d+", k)}
+    parts = [f"{k} {v}" for k, v in d.items() if k not in rollers]
+    if rollers:
+        vals = sorted(set(rollers.values()))
+        span = f"{vals[0]}" if len(vals) == 1 else f"{vals[0]}-{vals[-1]}"
+        parts.append(f"rollers ({len(rollers)}) {span} each")
+    return ", ".join(parts)
+
+
+# mesh_statistics keys (SI) shown in friendlier units
+_MESH_UNITS = {
+    "min_size": ("shortest element edge (mm)", 1e3),
+    "max_size": ("longest element edge (mm)", 1e3),
+    "min_char_length": ("smallest characteristic length (mm)", 1e3),
+    "wave_speed": ("dilatational wave speed (m/s)", 1.0),
+    "critical_dt": ("critical time step (ns)", 1e9),
+    "worst_aspect": ("worst aspect ratio", 1.0),
+    "worst_jacobian_ratio": ("worst Jacobian ratio", 1.0),
+}
+
+
+def _mesh(summary: dict, run_dir: Path) -> list:
+    stats = summary.get("mesh_statistics") or {}
+    path = run_dir / "mesh_statistics.json"
+    if not stats and path.is_file():
+        stats = json.loads(path.read_text())
+    rows = [
+        ["elements", fmt(summary.get("n_elements"))],
+        ["nodes", fmt(summary.get("n_nodes"))],
+    ]
+    for key, value in stats.items():
+        if key in ("n_nodes", "n_elements"):
+            continue
+        label, scale = _MESH_UNITS.get(key, (key, None))
+        if isinstance(value, dict):
+            text = _group_parts(value)
+        elif scale is not None and isinstance(value, (int, float)):
+            text = fmt(scale * value)
+        else:
+            text = fmt(value)
+        rows.append([label, text])
+    return [Table(["quantity", "value"], rows)]
+
+
+def _stages(summary: dict) -> list:
+    stages = summary.get("stage_times_s") or {}
+    rows = [[name, fmt(t)] for name, t in stages.items()]
+    if stages:
+        rows.append(["total", fmt(sum(float(t) for t in stages.values() if t is not None))])
+    out = [Table(["stage", "wall time (s)"], rows)] if rows else []
+    run_rows = [
+        ["time step dt (s)", fmt(summary.get("dt_s"))],
+        ["steps", fmt(summary.get("n_steps"))],
+        ["wall time (s)", fmt(summary.get("wall_time_s"))],
+        ["element-steps per second", fmt(summary.get("element_steps_per_s"))],
+        ["energy balance error", fmt(summary.get("energy_balance_error"))],
+        ["cage speed relative error", fmt(summary.get("cage_speed_rel_error"))],
+    ]
+    return out + [Table(["run", "value"], run_rows)]
+
+
+def _static(summary: dict) -> list:
+    sim = summary.get("static_roller_forces_N") or []
+    ana = summary.get("analytical_roller_forces_N") or []
+    if not sim or not ana:
+        return [Para("summary.json holds no static roller forces.")]
+    peak = max(abs(float(a)) for a in ana if a is not None) or 1.0
+    rows = []
+    for j, (s, a) in enumerate(zip(sim, ana, strict=False)):
+        loaded = a is not None and abs(float(a)) > 0.01 * peak
+        rows.append([str(j), fmt(s), fmt(a), _pct(s, a) if loaded else "unloaded"])
+    js = max(range(len(sim)), key=lambda j: float(sim[j] or 0.0))
+    ja = max(range(len(ana)), key=lambda j: float(ana[j] or 0.0))
+    text = (
+        f"End of preload against the analytical load distribution (design section 4). "
+        f"Q_max: simulated {fmt(sim[js])} N (roller {js}), analytical {fmt(ana[ja])} N "
+        f"(roller {ja}), difference {_pct(sim[js], ana[ja])}. Errors are shown for rollers "
+        f"carrying more than 1 % of Q_max."
+    )
+    return [Para(text), Table(["roller", "simulated (N)", "analytical (N)", "error"], rows)]
+
+
+def _checks(summary: dict) -> list:
+    checks = summary.get("checks") or {}
+    if not checks:
+        return [Para("summary.json holds no checks.")]
+    rows = []
+    for name, c in checks.items():
+        c = c or {}
+        passed = c.get("passed")
+        rows.append(
+            [
+                name,
+                fmt(c.get("value")),
+                fmt(c.get("limit")),
+                "PASS" if passed else ("FAIL" if passed is not None else "-"),
+                str(c.get("note") or ""),
+            ]
+        )
+    n_fail = sum(1 for r in rows if r[3] == "FAIL")
+    verdict = f"{len(rows) - n_fail} of {len(rows)} checks pass."
+    return [Para(verdict), Table(["check", "value", "limit", "result", "note"], rows)]
+
+
+def _figure(figs: dict, run_dir: Path, name: str) -> list:
+    entry = figs.get(name)
+    if not entry:
+        return [Para(f"figure {name} was not drawn.")]
+    return [Image(run_dir / "figures" / entry["file"], entry.get("caption", ""))]
+
+
+def _passages(summary: dict, figs: dict, run_dir: Path) -> list:
+    ev = passage_events(summary)
+    bpfo = summary.get("bpfo_hz")
+    out: list = []
+    if ev:
+        rows = [
+            [
+                fmt(e["roller"]),
+                fmt(1e3 * e["entry_time_s"]),
+                fmt(1e3 * e["exit_time_s"]),
+                fmt(1e3 * (e["exit_time_s"] - e["entry_time_s"])),
+            ]
+            for e in ev
+        ]
+        out.append(Table(["roller", "entry (ms)", "exit (ms)", "entry to exit (ms)"], rows))
+        exits = [e["exit_time_s"] for e in ev if math.isfinite(e["exit_time_s"])]
+        if len(exits) > 1 and bpfo:
+            period = 1.0 / float(bpfo)
+            gaps = [b - a for a, b in zip(exits[:-1], exits[1:], strict=True)]
+            out.append(
+                Para(
+                    "Time between consecutive re-stressing events: "
+                    + ", ".join(f"{fmt(1e3 * g)} ms ({_pct(g, period)})" for g in gaps)
+                    + f" against 1/BPFO = {fmt(1e3 * period)} ms (BPFO {fmt(bpfo)} Hz)."
+                )
+            )
+    else:
+        out.append(Para("No spall passage was recorded (summary.json events)."))
+    return out + _figure(figs, run_dir, "acceleration") + _figure(figs, run_dir, "contact_forces")
+
+
+def _noise(summary: dict, figs: dict, run_dir: Path) -> list:
+    pred = summary.get("noise_frequencies_predicted_hz") or []
+    meas = summary.get("noise_frequencies_measured_hz") or []
+    if isinstance(pred, dict):
+        pred = list(pred.values())
+    if isinstance(meas, dict):
+        meas = list(meas.values())
+    out: list = [
+        Para(
+            "Rolling over the polygonal mesh surfaces excites tones at the facet passing "
+            "frequencies. Predicted (from the edge counts) against the tonal peaks "
+            "measured in the sensor spectrum:"
+        )
+    ]
+    n = max(len(pred), len(meas))
+    rows = []
+    for i in range(n):
+        p = pred[i] if i < len(pred) else None
+        m = meas[i] if i < len(meas) else None
+        rows.append([fmt(p), fmt(m), _pct(m, p)])
+    out.append(Table(["predicted (Hz)", "measured (Hz)", "difference"], rows))
+    notches = ((figs.get("psd_notch") or {}).get("values") or {}).get("notches") or []
+    if notches:
+        out.append(Para("Notch filters (Q = 30) at each predicted frequency, measured on the PSD:"))
+        out.append(
+            Table(
+                ["notch (Hz)", "peak bin (Hz)", "PSD before", "PSD after", "attenuation (dB)"],
+                [
+                    [
+                        fmt(r["frequency_hz"]),
+                        fmt(r["peak_hz"]),
+                        fmt(r["before"]),
+                        fmt(r["after"]),
+                        fmt(r["attenuation_db"], 3),
+                    ]
+                    for r in notches
+                ],
+            )
+        )
+    return out + _figure(figs, run_dir, "psd_notch")
+
+
+def _spectral(figs: dict, run_dir: Path) -> list:
+    out: list = []
+    for name in ("spectrogram", "spectral_kurtosis", "kurtogram", "envelope_spectrum"):
+        out += _figure(figs, run_dir, name)
+    return out + _figure(figs, run_dir, "third_octave")
+
+
+def _defect(summary: dict) -> list:
+    est, true = summary.get("defect_size_estimate_m"), summary.get("defect_size_true_m")
+    rows = [
+        ["estimated from the simulated signal (mm)", fmt(None if est is None else 1e3 * est)],
+        ["true spall length (mm)", fmt(None if true is None else 1e3 * true)],
+        ["difference", _pct(est, true)],
+    ]
+    return [
+        Para(
+            "Spall length from the entry-to-exit time of each passage "
+            "(diagnostics.estimate_defect_size) against the case's spall length."
+        ),
+        Table(["quantity", "value"], rows),
+    ]
+
+
+def report_blocks(run_dir: str | os.PathLike) -> list:
+    """The report as a list of blocks (Heading, Para, Table, Image), in order."""
+    run_dir = Path(run_dir)
+    summary = json.loads((run_dir / "summary.json").read_text())
+    case_path = run_dir / "case.yaml"
+    case = (yaml.safe_load(case_path.read_text()) or {}) if case_path.is_file() else {}
+    figs_path = run_dir / "figures" / "figures.json"
+    if not figs_path.is_file():
+        from taichi_bearing.post.run_figures import make_run_figures
+
+        make_run_figures(run_dir)
+    meta = json.loads(figs_path.read_text())
+    figs = meta.get("figures", {})
+    name = summary.get("case_name") or case.get("name") or run_dir.name
+    blocks: list = [
+        Heading(f"Run report: {name}", 1),
+        Para(
+            f"Run folder `{run_dir}`. Signal analysed: {meta.get('sensor', '-')}, "
+            f"{fmt(meta.get('fs_hz'))} Hz, {meta.get('n_samples', '-')} samples. "
+            "Every number below is read from the run folder."
+        ),
+    ]
+    if summary.get("missing_keys"):
+        blocks.append(Para(f"summary.json lacks: {', '.join(summary['missing_keys'])}."))
+    sections = {
+        "Case": _case(case),
+        "Mesh": _mesh(summary, run_dir),
+        "Stages and times": _stages(summary),
+        "Static load distribution": _static(summary),
+        "Checks": _checks(summary),
+        "Spall passages": _passages(summary, figs, run_dir),
+        "Numerical noise and notch filters": _noise(summary, figs, run_dir),
+        "Spectral analysis": _spectral(figs, run_dir),
+        "Defect size": _defect(summary),
+        "Deformed mesh at the spall": _figure(figs, run_dir, "deformed_spall"),
+    }
+    for title in SECTIONS:
+        blocks.append(Heading(title, 2))
+        blocks += sections[title]
+    return blocks
+
+
+# --------------------------------------------------------------------------- rendering
+
+
+def _md_cell(text: str) -> str:
+    return text.replace("|", "\\|").replace("\n", " ")
+
+
+def to_markdown(blocks: list, run_dir: Path) -> str:
+    lines: list[str] = []
+    for b in blocks:
+        if isinstance(b, Heading):
+            lines += ["#" * b.level + " " + b.text, ""]
+        elif isinstance(b, Para):
+            lines += [b.text, ""]
+        elif isinstance(b, Table):
+            lines.append("| " + " | ".join(_md_cell(h) for h in b.header) + " |")
+            lines.append("|" + "---|" * len(b.header))
+            lines += ["| " + " | ".join(_md_cell(c) for c in row) + " |" for row in b.rows]
+            lines.append("")
+        elif isinstance(b, Image):
+            rel = os.path.relpath(b.path, run_dir)
+            lines += [f"![{_md_cell(b.path.stem)}]({rel})", "", f"*{b.caption}*", ""]
+    return "\n".join(lines)
+
+
+_CSS = (
+    "body{font-family:sans-serif;max-width:1000px;margin:2em auto;color:#222}"
+    "table{border-collapse:collapse;margin:0.5em 0}td,th{border:1px solid #bbb;"
+    "padding:2px 8px;text-align:left}th{background:#eee}img{max-width:100%}"
+    "figcaption{font-style:italic;margin-bottom:1.5em}"
+)
+
+
+def _inline(text: str) -> str:
+    return re.sub(r"`([^`]*)`", r"<code>\1</code>", html.escape(text))
+
+
+def to_html(blocks: list) -> str:
+    title = next((b.text for b in blocks if isinstance(b, Heading)), "Run report")
+    parts = [
+        "<!DOCTYPE html>",
+        '<html><head><meta charset="utf-8">',
+        f"<title>{html.escape(title)}</title><style>{_CSS}</style></head><body>",
+    ]
+    for b in blocks:
+        if isinstance(b, Heading):
+            parts.append(f"<h{b.level}>{html.escape(b.text)}</h{b.level}>")
+        elif isinstance(b, Para):
+            parts.append(f"<p>{_inline(b.text)}</p>")
+        elif isinstance(b, Table):
+            head = "".join(f"<th>{html.escape(h)}</th>" for h in b.header)
+            body = "".join(
+                "<tr>" + "".join(f"<td>{html.escape(c)}</td>" for c in row) + "</tr>"
+                for row in b.rows
+            )
+            parts.append(f"<table><tr>{head}</tr>{body}</table>")
+        elif isinstance(b, Image):
+            data = base64.b64encode(b.path.read_bytes()).decode("ascii")
+            parts.append(
+                f'<figure><img alt="{html.escape(b.path.stem)}" '
+                f'src="data:image/png;base64,{data}"><figcaption>'
+                f"{html.escape(b.caption)}</figcaption></figure>"
+            )
+    parts.append("</body></html>")
+    return "\n".join(parts)
+
+
+def write_report(run_dir: str | os.PathLike) -> Path:
+    """Write ``report.md`` and ``report.html`` into a run folder; returns ``report.md``.
+
+    Draws the figures first (:func:`~taichi_bearing.post.run_figures.make_run_figures`) when
+    ``figures/figures.json`` is missing. Both files are written to a temporary name and
+    renamed.
+    """
+    run_dir = Path(run_dir)
+    blocks = report_blocks(run_dir)
+    md_path = run_dir / "report.md"
+    with atomic_path(md_path) as tmp:
+        tmp.write_text(to_markdown(blocks, run_dir), encoding="utf-8")
+    with atomic_path(run_dir / "report.html") as tmp:
+        tmp.write_text(to_html(blocks), encoding="utf-8")
+    return md_path
