@@ -64,13 +64,22 @@ def test_default_case_in_si(default_case_path):
     assert case.defect.angle == 0.0 and case.defect.race == "outer" and case.defect.present
     assert case.defect.length == pytest.approx(0.01)
     assert case.defect.depth == pytest.approx(2e-4)
-    assert case.run.duration == pytest.approx(0.03)
+    assert case.run.duration == pytest.approx(0.033)
     assert case.run.first_roller_angle == pytest.approx(math.radians(-5.0))
     assert case.run.sample_rate == pytest.approx(1e5)
     assert case.contact.friction_decay == pytest.approx(1.0)
     assert case.cage.mass == pytest.approx(2.0)
+    assert case.damping.max_element_ratio == pytest.approx(0.1)
     assert case.sensors["adapter_top"].y == pytest.approx(0.156)
     assert case.output.dir is None and case.out_dir == Path("runs/line_spall")
+
+
+def test_damping_element_cap_defaults_and_is_validated(tmp_path, raw):
+    raw = dict(raw, damping={k: v for k, v in raw["damping"].items() if k != "max_element_ratio"})
+    assert load_case(write(tmp_path, raw)).damping.max_element_ratio == 0.1  # default
+    raw["damping"]["max_element_ratio"] = 0.0
+    with pytest.raises(CaseError, match="damping.max_element_ratio"):
+        load_case(write(tmp_path, raw))
 
 
 @pytest.mark.parametrize(
