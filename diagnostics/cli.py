@@ -296,29 +296,11 @@ def add_compare_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument(
         "--bearing",
         help="measured bearing: n=ROLLERS,d=ROLLER_DIAMETER,D=PITCH_DIAMETER[,angle=DEG] "
-        "(default: the simulated bearing, from the run's summary.json geometry)",
+        "(default: the simulated bearing, from the run folder)",
     )
     parser.add_argument("--channel", help="column, variable or key of the measured records")
     parser.add_argument("--sensor", help="sensor of the simulated run (default: the first)")
     parser.add_argument("--out", type=Path, help="output folder (default: RUN_DIR/compare)")
-
-
-def _run_geometry(run_dir: Path) -> BearingGeometry:
-    """The simulated bearing from the run's summary.json, for measured records of it."""
-    import json
-
-    g = json.loads((run_dir / "summary.json").read_text()).get("geometry") or {}
-    try:
-        return BearingGeometry(
-            int(g["n_rollers"]),
-            float(g["roller_diameter_m"]),
-            float(g["pitch_diameter_m"]),
-            float(g.get("contact_angle_deg", 0)),
-        )
-    except (KeyError, TypeError):
-        raise UsageError(
-            f"{run_dir / 'summary.json'} holds no geometry; give --bearing for the measured data"
-        ) from None
 
 
 def run_compare(args: argparse.Namespace) -> int:
@@ -331,7 +313,15 @@ def run_compare(args: argparse.Namespace) -> int:
     if not args.run_dir.is_dir():
         raise UsageError(f"{args.run_dir}: not a folder (give a simulated run folder)")
     sim = compare.read_run_record(args.run_dir, args.sensor)
-    geometry = parse_bearing(args.bearing) if args.bearing else _run_geometry(args.run_dir)
+    if args.bearing:
+        geometry = parse_bearing(args.bearing)
+    else:
+        geometry = compare.run_geometry(args.run_dir)
+        if geometry is None:
+            raise UsageError(
+                f"{args.run_dir}: no bearing geometry in summary.json or case.yaml; give "
+                "--bearing for the measured records"
+            )
     records = [sim] + [
         compare.measured_record(path, geometry, rpm=args.rpm, fs=args.fs, channel=args.channel)
         for path in args.measured
@@ -349,6 +339,8 @@ def run_compare(args: argparse.Namespace) -> int:
             f"({it['bpfo_periods']:.3g} BPFO periods), BPFO {it['bpfo_hz']:.4g} Hz, band "
             f"{it['band_hz'][0]:.0f}-{it['band_hz'][1]:.0f} Hz, BPFO x1..5 / median: {ratios}"
         )
+        for note in it["notes"]:
+            print(f"  note: {note}")
     print(f"wrote {len(figures) + 1} files to {out}")
     return 0
 

@@ -40,6 +40,7 @@ __all__ = [
     "Record",
     "Analysis",
     "read_run_record",
+    "run_geometry",
     "measured_record",
     "analyse",
     "impact_times",
@@ -136,16 +137,8 @@ def read_run_record(run_dir: str | os.PathLike, sensor: str | None = None) -> Re
     if not events:
         events = list(summary.get("restress_times_s") or [])
     events = np.array([v for v in events if v is not None], dtype=float) - t[0]
-    geometry = summary.get("geometry") or {}
-    freqs = None
-    if {"n_rollers", "roller_diameter_m", "pitch_diameter_m"} <= geometry.keys():
-        g = BearingGeometry(
-            int(geometry["n_rollers"]),
-            float(geometry["roller_diameter_m"]),
-            float(geometry["pitch_diameter_m"]),
-            float(geometry.get("contact_angle_deg", 0.0)),
-        )
-        freqs = bearing_frequencies(g, float(summary["shaft_hz"]))
+    g = run_geometry(run_dir, summary)
+    freqs = bearing_frequencies(g, float(summary["shaft_hz"])) if g is not None else None
     return Record(
         label=f"simulated: {summary.get('case_name', run_dir.name)} ({column})",
         source="simulated",
@@ -158,6 +151,39 @@ def read_run_record(run_dir: str | os.PathLike, sensor: str | None = None) -> Re
         events_s=events,
         meta={"run_dir": str(run_dir), "column": column},
     )
+
+
+def run_geometry(run_dir: str | os.PathLike, summary: dict | None = None):
+    """Bearing geometry of a run: ``summary["geometry"]`` (metres) or, failing that, the
+    ``bearing`` section of the run's ``case.yaml`` (``n_rollers``, ``roller_diameter_mm``,
+    ``pitch_diameter_mm``). None when neither is there."""
+    run_dir = Path(run_dir)
+    if summary is None:
+        summary = json.loads((run_dir / "summary.json").read_text())
+    g = summary.get("geometry") or {}
+    try:
+        return BearingGeometry(
+            int(g["n_rollers"]),
+            float(g["roller_diameter_m"]),
+            float(g["pitch_diameter_m"]),
+            float(g.get("contact_angle_deg", 0.0)),
+        )
+    except (KeyError, TypeError, ValueError):
+        pass
+    case_path = run_dir / "case.yaml"
+    if not case_path.is_file():
+        return None
+    try:
+        import yaml  # the run folder's own format; not a taichi import
+
+        b = (yaml.safe_load(case_path.read_text()) or {}).get("bearing") or {}
+        return BearingGeometry(
+            int(b["n_rollers"]),
+            1e-3 * float(b["roller_diameter_mm"]),
+            1e-3 * float(b["pitch_diameter_mm"]),
+        )
+    except (ImportError, KeyError, TypeError, ValueError, AttributeError):
+        return None
 
 
 def measured_record(
@@ -211,6 +237,10 @@ def analyse(rec: Record) -> Analysis:
     x = np.asarray(rec.x, dtype=float) - np.mean(rec.x)
     fs, bpfo = rec.fs, rec.bpfo_hz
     notes = []
+    if x.size / fs * bpfo < 2.0:
+        notes.append(
+            "record shorter than two BPFO periods: the envelope spectrum cannot resolve BPFO"
+        )
     nlevel = choose_nlevel(x.size)
     band, kurt = None, math.nan
     if nlevel >= 1:
@@ -305,7 +335,7 @@ def compare_figures(records: list[Record], analyses: list[Analysis], out: Path) 
                     color="k",
                     ls="--",
                     lw=0.7,
-                    label="defect event" if k == 0 else None,
+                    label=an.events_label if k == 0 else None,
                 )
         ax.set_ylabel(rec.unit)
         ax.set_title(f"{rec.label}: from {start:.4g} s, BPFO {rec.bpfo_hz:.4g} Hz", fontsize=10)
@@ -424,13 +454,19 @@ def compare_summary(records: list[Record], analyses: list[Analysis]) -> dict:
                 "notes": an.notes,
             }
         )
-    # A comb "shows" when BPFO x1 or x2 stands 3 times above the spectrum's median.
-    shows = [bool(np.nanmax(it["bpfo_harmonic_ratios"][:2]) >= 3.0) for it in items]
+    # A comb "shows" when BPFO x1 or x2 stands 3 times above the spectrum's median; a
+    # record shorter than two periods cannot show it either way (None).
+    shows = [
+        bool(np.nanmax(it["bpfo_harmonic_ratios"][:2]) >= 3.0)
+        if it["bpfo_periods"] >= 2.0
+        else None
+        for it in items
+    ]
     return {
         "records": items,
         "speed_ratio": [it["shaft_hz"] / items[0]["shaft_hz"] for it in items],
         "frequency_axes": "envelope spectra in orders of each record's BPFO; time in BPFO "
         "periods; spectrogram and one-third-octave in Hz",
         "bpfo_comb_shown": shows,
-        "all_show_bpfo_comb": all(shows),
+        "all_show_bpfo_comb": all(shows) if None not in shows else None,
     }

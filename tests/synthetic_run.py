@@ -31,6 +31,7 @@ from taichi_bearing.output.summary import write_summary
 
 ROOT = Path(__file__).resolve().parents[1]
 CASE = ROOT / "cases" / "line_spall.yaml"
+NOISE_SOURCES = ("outer_raceway", "roller")
 OVERRIDES = ("mesh.surface_size_mm=3", "mesh.max_size_mm=6", "run.frame_interval_ms=0.5")
 
 
@@ -168,19 +169,16 @@ def make_synthetic_run(
             {"roller": j, "entry_time_s": te, "exit_time_s": tx}
             for j, te, tx in zip(rollers, entries, exits, strict=True)
         ],
-        "noise_frequencies_predicted_hz": noise_hz,
-        "noise_frequencies_measured_hz": [f + 25.0 for f in noise_hz],
+        "noise_frequencies_predicted_hz": dict(zip(NOISE_SOURCES, noise_hz, strict=True)),
+        "noise_frequencies_measured_hz": {
+            k: f + 25.0 for k, f in zip(NOISE_SOURCES, noise_hz, strict=True)
+        },
+        "analysed_signal": f"{sensors[0]}_ay",
         "defect_size_estimate_m": 9.3e-3,
         "defect_size_true_m": case.defect.length,
         "stage_times_s": {"mesh": 1.5, "preload": 40.2, "transient": 80.1, "post": 1.6},
         "sensor_names": sensors,
         "n_rollers": n,
-        "geometry": {
-            "n_rollers": n,
-            "roller_diameter_m": case.bearing.roller_diameter,
-            "pitch_diameter_m": case.bearing.pitch_diameter,
-            "contact_angle_deg": 0.0,
-        },
         "checks": checks,
         "mesh_statistics": mesh_stats or {},
     }

@@ -163,3 +163,20 @@ def test_rigid_motion_is_split_from_the_elastic_part():
 
 def test_nice_factor():
     assert [nice_factor(v) for v in (0.5, 3.0, 7.0, 19.0, 250.0, 1e4)] == [1, 2, 5, 10, 200, 1e4]
+
+
+def test_run_without_passages(tmp_path):
+    """A run too short to reach the spall: no marks, the most active rollers shown."""
+    make_synthetic_run(tmp_path, frames=False)
+    path = tmp_path / "summary.json"
+    summary = json.loads(path.read_text())
+    summary.update(events=[], entry_times_s=[], restress_times_s=[])
+    path.write_text(json.dumps(summary))
+    fig, caption, _ = draw_run_figure(tmp_path, "contact_forces")
+    assert fig._suptitle.get_text().startswith("No spall passage recorded")
+    assert _vlines(fig.axes[0]) == []
+    # Rollers 0-2 carry the synthetic passages, so their forces vary most.
+    assert "rollers 0, 1, 2," in caption
+    fig, caption, values = draw_run_figure(tmp_path, "acceleration")
+    assert "no complete spall passage" in caption
+    assert "exit_to_entry_ratio" not in values

@@ -252,10 +252,11 @@ def _passages(summary: dict, figs: dict, run_dir: Path) -> list:
 def _noise(summary: dict, figs: dict, run_dir: Path) -> list:
     pred = summary.get("noise_frequencies_predicted_hz") or []
     meas = summary.get("noise_frequencies_measured_hz") or []
-    if isinstance(pred, dict):
-        pred = list(pred.values())
-    if isinstance(meas, dict):
-        meas = list(meas.values())
+    # The run writes {surface: Hz}; a plain list is accepted too.
+    if not isinstance(pred, dict):
+        pred = {str(i): v for i, v in enumerate(pred)}
+    if not isinstance(meas, dict):
+        meas = {str(i): v for i, v in enumerate(meas)}
     out: list = [
         Para(
             "Rolling over the polygonal mesh surfaces excites tones at the facet passing "
@@ -263,13 +264,11 @@ def _noise(summary: dict, figs: dict, run_dir: Path) -> list:
             "measured in the sensor spectrum:"
         )
     ]
-    n = max(len(pred), len(meas))
-    rows = []
-    for i in range(n):
-        p = pred[i] if i < len(pred) else None
-        m = meas[i] if i < len(meas) else None
-        rows.append([fmt(p), fmt(m), _pct(m, p)])
-    out.append(Table(["predicted (Hz)", "measured (Hz)", "difference"], rows))
+    rows = [
+        [name, fmt(pred.get(name)), fmt(meas.get(name)), _pct(meas.get(name), pred.get(name))]
+        for name in dict.fromkeys([*pred, *meas])
+    ]
+    out.append(Table(["source", "predicted (Hz)", "measured (Hz)", "difference"], rows))
     notches = ((figs.get("psd_notch") or {}).get("values") or {}).get("notches") or []
     if notches:
         out.append(Para("Notch filters (Q = 30) at each predicted frequency, measured on the PSD:"))

@@ -98,14 +98,20 @@ def load_run(run_dir: str | os.PathLike) -> RunData:
 
 
 def sensor_acceleration(run: RunData, sensor: str | None = None) -> tuple[np.ndarray, str]:
-    """Radial acceleration of a sensor (m/s^2) and a label saying which.
+    """Acceleration of a sensor (m/s^2) and a label saying which.
 
-    The radial direction is that of the sensor's position in ``case.yaml`` (outward from the
-    bearing centre); without a position the vertical component ``ay`` is used.
+    Without ``sensor``: the column the run analysed (``summary["analysed_signal"]``) when
+    given. Otherwise the radial acceleration of the sensor, radial being the direction of
+    its position in ``case.yaml`` (outward from the bearing centre); without a position the
+    vertical component ``ay`` is used.
     """
     names = run.sensor_names
     if not names:
         raise ValueError(f"{run.run_dir}: no sensor acceleration columns in the histories")
+    analysed = run.summary.get("analysed_signal")
+    if sensor is None and analysed in run.histories:
+        # The signal the run's own checks analysed (e.g. "adapter_top_ay").
+        return run.histories[analysed].to_numpy(dtype=float), f"{analysed} (m/s^2)"
     sensor = sensor or names[0]
     if f"{sensor}_ay" not in run.histories:
         raise ValueError(f"{run.run_dir}: no sensor {sensor!r}; sensors: {', '.join(names)}")

@@ -68,6 +68,12 @@ def _event_marks(run: RunData) -> dict[str, np.ndarray]:
     return {ENTRY_LABEL: entries[np.isfinite(entries)], EXIT_LABEL: exits[np.isfinite(exits)]}
 
 
+def _shown(marks: dict[str, np.ndarray]) -> dict[str, np.ndarray] | None:
+    """The non-empty mark series, or None (no legend without marks)."""
+    shown = {k: v for k, v in marks.items() if len(v)}
+    return shown or None
+
+
 def _placeholder(title: str, message: str) -> Figure:
     fig = Figure(figsize=(8.0, 3.0), layout="constrained")
     ax = fig.add_subplot()
@@ -157,7 +163,7 @@ def _noise_frequencies(summary: dict) -> list[float]:
 def _acceleration(run: RunData, x, label, marks) -> tuple[Figure, str, dict]:
     fig = Figure(figsize=(9.0, 6.0), layout="constrained")
     top, bottom = fig.subplots(2, 1)
-    dplots.plot_time_trace(x, run.fs, marks, ax=top, unit="m/s^2")
+    dplots.plot_time_trace(x, run.fs, _shown(marks), ax=top, unit="m/s^2")
     top.set_title(f"{label}: whole record")
     duration = x.size / run.fs
     entries, exits = marks[ENTRY_LABEL], marks[EXIT_LABEL]
@@ -177,7 +183,7 @@ def _acceleration(run: RunData, x, label, marks) -> tuple[Figure, str, dict]:
         zoom_marks = {
             k: v[(v >= a / run.fs) & (v <= b / run.fs)] - a / run.fs for k, v in marks.items()
         }
-        dplots.plot_time_trace(x[a:b], run.fs, zoom_marks, ax=bottom, unit="m/s^2")
+        dplots.plot_time_trace(x[a:b], run.fs, _shown(zoom_marks), ax=bottom, unit="m/s^2")
         bottom.set_title(f"first passage, from t = {1e3 * (run.t0 + a / run.fs):.2f} ms")
         i_in, i_out = int(t_in * run.fs), int(t_out * run.fs)
         w = max(int(0.5 * sep * run.fs), 1)
@@ -209,14 +215,15 @@ def _contact_forces(run: RunData) -> tuple[Figure, str, dict]:
     rollers = list(dict.fromkeys(int(r) for r in rollers))
     hist = run.histories
     t_ms = 1e3 * hist["time_s"].to_numpy(dtype=float)
-    if not rollers:
-        # No roller named: the ones whose outer force varies most went through the spall.
+    named = bool(rollers)
+    if not named:
+        # No passage recorded: show the rollers whose outer force varies most.
         ranges = []
         for j in range(run.rollers):
             col = f"roller{j}_outer_fn"
             if col in hist:
                 ranges.append((float(np.ptp(hist[col].to_numpy())), j))
-        rollers = [j for _, j in sorted(ranges, reverse=True)[:3]]
+        rollers = sorted(j for _, j in sorted(ranges, reverse=True)[:3])
     fig = Figure(figsize=(9.0, 6.5), layout="constrained")
     axes = fig.subplots(2, 1, sharex=True)
     values: dict = {}
@@ -241,14 +248,24 @@ def _contact_forces(run: RunData) -> tuple[Figure, str, dict]:
         ax.set_title(f"{race} raceway")
         ax.legend(loc="upper right", fontsize="small", ncol=2)
     axes[-1].set_xlabel("time (ms)")
-    fig.suptitle("Contact force of each roller through the spall (dashed: entry, solid: exit)")
+    if named:
+        fig.suptitle("Contact force of each roller through the spall (dashed: entry, solid: exit)")
+    else:
+        fig.suptitle("No spall passage recorded: the rollers whose contact force varies most")
     parts = []
     for name, v in values.items():
         parts.append(
             f"{name}: {v['before_kN']:.3g} kN before entry, minimum {v['min_kN']:.3g} kN in "
             f"the spall, peak {v['peak_after_exit_kN']:.3g} kN in the 1 ms after exit"
         )
-    caption = "Normal contact force of each roller that crossed the spall. " + "; ".join(parts)
+    if named:
+        caption = "Normal contact force of each roller that crossed the spall. " + "; ".join(parts)
+    else:
+        caption = (
+            "No spall passage was recorded; normal contact forces of rollers "
+            + ", ".join(map(str, rollers))
+            + ", whose forces vary most."
+        )
     return fig, caption, values
 
 
@@ -267,16 +284,14 @@ def _passage_numbers(t: np.ndarray, fn: np.ndarray, e: dict) -> dict:
 
 def _spectrogram(run, x, marks):
     nperseg = choose_nperseg(x.size)
-    fig = dplots.plot_spectrogram(x, run.fs, marks, nperseg=nperseg)
+    fig = dplots.plot_spectrogram(x, run.fs, _shown(marks), nperseg=nperseg)
     _note(
         fig,
         f"STFT window {nperseg} samples ({1e3 * nperseg / run.fs:.3g} ms, "
         f"{run.fs / nperseg:.0f} Hz bins), chosen from the {x.size}-sample record",
     )
-    caption = (
-        f"Spectrogram of the sensor acceleration, {nperseg}-sample windows; entry and "
-        "exit times marked."
-    )
+    marked = "entry and exit times marked" if marks[EXIT_LABEL].size else "no passage"
+    caption = f"Spectrogram of the sensor acceleration, {nperseg}-sample windows; {marked}."
     return fig, caption, {"nperseg": nperseg}
 
 
@@ -354,6 +369,11 @@ def _envelope(run, x, kg):
         f"and harmonics marked; resolution {df:.3g} Hz. Level at BPFO x1..{len(levels)} over "
         f"the median: " + ", ".join(f"{v / background:.3g}" for v in levels) + "."
     )
+    if df > 0.5 * bpfo:
+        caption += (
+            f" The record ({1e3 / df:.3g} ms) is shorter than two BPFO periods: the "
+            "harmonics are not resolved and these levels say nothing about the fault."
+        )
     return (
         fig,
         caption,
@@ -395,9 +415,9 @@ def _psd_notch(run, x):
     if rows:
         caption = (
             "PSD before and after notches at the predicted numerical-noise "
-            "frequencies: "
+            "frequencies (attenuation at the highest PSD bin within two bins of each): "
             + ", ".join(f"{r['frequency_hz']:.0f} Hz {r['attenuation_db']:.1f} dB" for r in rows)
-            + "."
+            + f". Bins are {run.fs / nperseg:.3g} Hz apart."
         )
     else:
         caption = "PSD of the sensor acceleration; no numerical-noise frequency was predicted."
