@@ -397,16 +397,23 @@ def _psd_notch(run, x):
     ax = fig.axes[0]
     ax.set_ylabel("PSD ((m/s^2)^2/Hz)")
     ax.legend(loc="upper right", fontsize="small")
+    # One label per measured peak: predicted tones closer than the bin spacing share one.
+    groups: dict[float, list[dict]] = {}
     for r in rows:
         if math.isfinite(r["attenuation_db"]):
-            ax.annotate(
-                f"{r['frequency_hz']:.0f} Hz\n-{r['attenuation_db']:.0f} dB",
-                (r["peak_hz"], r["before"]),
-                xytext=(4, 4),
-                textcoords="offset points",
-                fontsize="small",
-                color="tab:red",
-            )
+            groups.setdefault(r["peak_hz"], []).append(r)
+    for peak, group in groups.items():
+        lo, hi = group[0]["frequency_hz"], group[-1]["frequency_hz"]
+        name = f"{lo:.0f} Hz" if len(group) == 1 else f"{lo:.0f}-{hi:.0f} Hz"
+        ax.annotate(
+            f"{name}: -{group[0]['attenuation_db']:.0f} dB",
+            (peak, group[0]["before"]),
+            xytext=(8, -4),
+            textcoords="offset points",
+            fontsize="small",
+            color="tab:red",
+            va="top",
+        )
     _note(
         fig,
         f"notch Q = {NOTCH_Q:g} at each predicted numerical-noise frequency "
