@@ -43,8 +43,6 @@ from taichi_bearing.solver.model import Model
 
 __all__ = ["ContactPair", "ContactParameters", "PenaltyContact"]
 
-_XI_TOL = 0.02  # projection tolerance at segment ends (convex corners between segments)
-
 
 @ti.data_oriented
 class PenaltyContact:
@@ -284,7 +282,8 @@ class PenaltyContact:
             cx, cy = self._cell_xy(xp, ox, oy, h, nx, ny)
             c = cy * nx + cx
             best = -1
-            best_pen = 1e300
+            best_d2 = 1e300
+            best_pen = 0.0
             best_xi = 0.0
             for k in range(self.cell_start[c], self.cell_start[c + 1]):
                 s = self.cell_items[k]
@@ -295,14 +294,15 @@ class PenaltyContact:
                         d = x[ib] - a
                         l2 = d.dot(d)
                         xi = (xp - a).dot(d) / l2
-                        if xi >= -_XI_TOL and xi <= 1.0 + _XI_TOL:
-                            ln = ti.sqrt(l2)
-                            gap = (xp - a).dot(ti.Vector([d[1], -d[0]])) / ln
-                            pen = -gap
-                            # Closest penetrated segment; ties to the lower index.
-                            if pen > 0.0 and pen < capture:
-                                if pen < best_pen or (pen == best_pen and s < best):
-                                    best, best_pen, best_xi = s, pen, xi
+                        r = xp - (a + ti.min(ti.max(xi, 0.0), 1.0) * d)
+                        d2 = r.dot(r)
+                        # Closest segment (true distance, so an extended line beyond a
+                        # convex vertex never wins); ties to the lower index.
+                        if d2 < best_d2 or (d2 == best_d2 and s < best):
+                            best, best_d2, best_xi = s, d2, xi
+                            best_pen = -(xp - a).dot(ti.Vector([d[1], -d[0]])) / ti.sqrt(l2)
+            if best_pen <= 0.0 or best_pen >= capture:
+                best = -1
             if best < 0:
                 # Open: the tangential spring's energy is lost (counted as friction).
                 self.diss[0] += self.q_et[q]
