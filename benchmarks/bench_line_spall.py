@@ -1,0 +1,141 @@
+"""Speed of the bearing run: wall time, steps, element-steps/s and where the time goes.
+
+Runs the case (default ``cases/line_spall.yaml``) through mesh and preload, then a SHORT
+transient of ``--duration-ms`` (default 0.3 ms) with contact and every recorder, and
+extrapolates the transient to the case's full duration (labelled as such). The baseline,
+measured in the same process on the same mesh and state, is the same model stepped
+without contact (element forces, nodes, loads only). Shares: element/node kernels,
+contact (``add_forces``), recording (sensor sums read-out, energies, recorders, history
+writing: everything in the time loop outside the steps).
+
+Usage::
+
+    python benchmarks/bench_line_spall.py [CASE] [--duration-ms 0.3] [--threads 2]
+        [--set KEY=VALUE ...]
+"""
+
+from __future__ import annotations
+
+import argparse
+import tempfile
+import time
+from pathlib import Path
+
+from taichi_bearing.case import load_case
+from taichi_bearing.simulate import build_model, preload, stage_mesh
+
+
+class _Timed:
+    """Wraps a force contributor and adds up the wall time of its ``add_forces``."""
+
+    def __init__(self, inner) -> None:
+        self.inner = inner
+        self.seconds = 0.0
+
+    def add_forces(self, model, t) -> None:
+        t0 = time.perf_counter()
+        self.inner.add_forces(model, t)
+        self.seconds += time.perf_counter() - t0
+
+    def energy(self, model=None) -> float:
+        return self.inner.energy(model)
+
+
+def main() -> None:
+    p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    p.add_argument("case", nargs="?", default="cases/line_spall.yaml")
+    p.add_argument("--duration-ms", type=float, default=0.3)
+    p.add_argument("--threads", type=int, default=0)
+    p.add_argument("--set", dest="overrides", action="append", default=[])
+    args = p.parse_args()
+
+    from taichi_bearing.solver import RunConfig, run_transient
+    from taichi_bearing.solver.engine import steps_per_sample
+
+    case = load_case(args.case, args.overrides)
+    rows = []
+    t0 = time.perf_counter()
+    mesh, _ = stage_mesh(case)
+    rows.append(("mesh", time.perf_counter() - t0, 0))
+    t0 = time.perf_counter()
+    bm = build_model(case, mesh, "cpu", args.threads or None)
+    model = bm.model
+    rows.append(("model build (fields)", time.perf_counter() - t0, 0))
+    t0 = time.perf_counter()
+    pre = preload(bm)
+    rows.append(("preload (dynamic relaxation)", time.perf_counter() - t0, pre["steps"]))
+    model.set_initial_velocities()
+    state = model.state_arrays()
+    ne = mesh.n_elements
+
+    # --- full transient (short), contact timed, steps timed
+    timed = [_Timed(c) for c in model.contributors]
+    model.contributors[:] = timed
+    step_s = [0.0]
+    advance = model.advance
+
+    def timed_advance(*a, **k):
+        t = time.perf_counter()
+        advance(*a, **k)
+        step_s[0] += time.perf_counter() - t
+
+    model.advance = timed_advance
+    duration = args.duration_ms * 1e-3
+    cfg = RunConfig(duration=duration, sample_rate=case.run.sample_rate, progress=False)
+    # compile outside the timing: one short run first
+    with tempfile.TemporaryDirectory() as tmp:
+        run_transient(
+            model,
+            RunConfig(duration=2 / case.run.sample_rate, sample_rate=case.run.sample_rate,
+                      progress=False),
+            Path(tmp), recorders=bm.recorders,
+        )  # fmt: skip
+        model.load_state_arrays(state)
+        for c in timed:
+            c.seconds = 0.0
+        step_s[0] = 0.0
+        t0 = time.perf_counter()
+        res = run_transient(model, cfg, Path(tmp), recorders=bm.recorders)
+        total = time.perf_counter() - t0
+    contact_s = sum(c.seconds for c in timed)
+    steps = res.steps
+    model.advance = advance
+
+    # --- baseline: the same model and state without contact
+    model.contributors[:] = []
+    model.load_state_arrays(state)
+    s, dt = steps_per_sample(model.dt_stable, case.run.sample_rate)
+    model.set_dt(dt)
+    model.advance(10, serial=False)  # compile
+    t0 = time.perf_counter()
+    model.advance(steps, serial=False)
+    base = time.perf_counter() - t0
+
+    full_steps = round(case.run.duration / res.dt)
+    scale = full_steps / steps
+    print(f"case {case.name}: {ne} elements, {mesh.n_nodes} nodes, dt {res.dt:.4g} s, "
+          f"threads {args.threads or 'all'}")  # fmt: skip
+    print(f"measured transient {args.duration_ms:g} ms = {steps} steps; EXTRAPOLATED to the "
+          f"case's {case.run.duration * 1e3:g} ms = {full_steps} steps")  # fmt: skip
+    print()
+    print(f"{'stage':40s} {'wall s':>10s} {'steps':>9s} {'elem-steps/s':>13s}")
+    for name, wall, n in rows:
+        rate = f"{ne * n / wall:13.3g}" if n else f"{'':13s}"
+        print(f"{name:40s} {wall:10.2f} {n:9d} {rate}")
+    print(f"{'transient, measured':40s} {total:10.2f} {steps:9d} {ne * steps / total:13.3g}")
+    print(f"{'transient, extrapolated (full duration)':40s} {total * scale:10.1f} "
+          f"{full_steps:9d} {ne * steps / total:13.3g}")  # fmt: skip
+    print(f"{'baseline: no contact, same steps':40s} {base:10.2f} {steps:9d} "
+          f"{ne * steps / base:13.3g}")  # fmt: skip
+    print()
+    elem = step_s[0] - contact_s
+    rec = total - step_s[0]
+    print("share of the measured transient:")
+    print(f"  element forces + node update  {elem:8.2f} s  {100 * elem / total:5.1f} %")
+    print(f"  contact                       {contact_s:8.2f} s  {100 * contact_s / total:5.1f} %")
+    print(f"  recording (samples, files)    {rec:8.2f} s  {100 * rec / total:5.1f} %")
+    print(f"contact run / baseline per step: {total / base:.2f}x")
+
+
+if __name__ == "__main__":
+    main()
