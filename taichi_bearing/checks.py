@@ -25,6 +25,8 @@ __all__ = [
     "check",
     "detect_spall_events",
     "energy_balance_check",
+    "exit_burst_check",
+    "passage_signature",
     "noise_frequencies",
     "predicted_noise_frequencies",
     "run_checks",
@@ -40,6 +42,7 @@ RESTRESS_LIMIT = 0.02
 ENERGY_LIMIT = 0.02
 NOISE_LIMIT = 0.05
 DEFECT_SIZE_LIMIT = 0.5
+EXIT_BURST_LIMIT = 2.0
 # A roller counts as loaded when the analytical model gives it this share of Q_max.
 LOADED_SHARE = 0.05
 
@@ -105,24 +108,38 @@ def _slope(t: np.ndarray, y: np.ndarray) -> float:
 
 
 def speed_checks(case: Case, hist: pd.DataFrame) -> tuple[dict[str, dict], dict]:
-    """Cage speed (slope of the cage angle) and the spin of the loaded rollers (relative
-    to the cage) after the start-up, against ideal rolling."""
+    """Cage speed and the spin of the loaded rollers (relative to the cage) after the
+    start-up, against ideal rolling.
+
+    The cage speed of kinematics is the orbital speed of the roller set: measured as the
+    slope of the rollers' mean centre angle (the rigid cage, which only follows them
+    through its pockets, is reported beside it).
+    """
     rates = rolling_rates(case)
     t = hist["time_s"].to_numpy()
     after = t >= startup_time(case)
-    cage = _slope(t[after], hist["cage_angle_rad"].to_numpy()[after])
+    n = case.bearing.n_rollers
+    cols = [f"roller{j}_angle_rad" for j in range(n)]
+    if all(c in hist for c in cols):
+        orbit = hist[cols].to_numpy().mean(axis=1)
+        source = "mean roller orbit"
+    else:
+        orbit = hist["cage_angle_rad"].to_numpy()
+        source = "cage angle"
+    cage = _slope(t[after], orbit[after])
+    rigid = _slope(t[after], hist["cage_angle_rad"].to_numpy()[after])
     cage_err = abs(cage - rates.cage) / abs(rates.cage)
     out = {
         "cage_speed": check(
             cage_err,
             SPEED_LIMIT,
             cage_err <= SPEED_LIMIT,
-            f"{cage:.5g} rad/s vs kinematics {rates.cage:.5g} rad/s",
+            f"{source} {cage:.5g} rad/s vs kinematics {rates.cage:.5g} rad/s "
+            f"(rigid cage {rigid:.5g} rad/s)",
         )
     }
     # spin relative to the cage, of rollers in the load zone (|angle| < 60 deg)
     spins = []
-    n = case.bearing.n_rollers
     for j in range(n):
         a = hist.get(f"roller{j}_angle_rad")
         s = hist.get(f"roller{j}_spin_rad_s")
@@ -142,7 +159,11 @@ def speed_checks(case: Case, hist: pd.DataFrame) -> tuple[dict[str, dict], dict]
             f"median spin relative to the cage of the loaded rollers {rel_spin:.5g} rad/s "
             f"vs kinematics {rates.roller_relative:.5g} rad/s",
         )
-    return out, {"cage_speed_rad_s": cage, "cage_speed_rel_error": cage_err}
+    return out, {
+        "cage_speed_rad_s": cage,
+        "rigid_cage_speed_rad_s": rigid,
+        "cage_speed_rel_error": cage_err,
+    }
 
 
 # ------------------------------------------------------------------ energy
@@ -158,17 +179,17 @@ def energy_balance_check(hist: pd.DataFrame) -> tuple[dict, float]:
 
 
 class SpallEvent(dict):
-    """``roller``, ``entry_time_s`` (de-stressing starts), ``exit_time_s`` (re-stressing),
-    ``force_before_N``, ``force_min_N``."""
+    """``roller``; ``entry_time_s`` (de-stressing: the force falls through half its
+    value before the spall), ``floor_window_s`` (start, end of the traverse) and
+    ``exit_time_s`` (re-stressing: the first return above half that value once the
+    roller reaches the exit edge); ``force_before_N``."""
 
 
-def _spall_window(info: Mapping) -> tuple[float, float] | None:
+def _spall_geometry(info: Mapping) -> dict | None:
     spall = info.get("spall")
     if not spall or spall.get("race") != "outer":
         return None
-    centre = float(spall["centre_angle_from_top"])
-    half = 0.5 * float(spall["length"]) / float(spall["raceway_radius"])
-    return centre - half, centre + half
+    return spall
 
 
 def detect_spall_events(
@@ -176,60 +197,124 @@ def detect_spall_events(
 ) -> list[SpallEvent]:
     """Entry and exit of every roller that passes the outer-raceway spall.
 
-    For each roller whose centre angle crosses the spall, ``F0`` is its median normal
-    force on the outer raceway while its centre is between one and two spall lengths
-    before the spall. Entry: the first time, in the window from half a roller radius
-    before the spall to its end, that the force falls below 0.95 F0. Exit: the first time
-    after the force minimum that it rises back above 0.5 F0.
+    The roller's outer contact point lies on the radial line through its centre, so its
+    position relative to the spall is the centre angle minus the spall's start angle,
+    ``rel`` (0 at the entry edge, ``span`` at the exit edge). ``F0``: the median normal
+    force on the outer raceway while the contact is more than 1 mm before the edge.
+    Entry: the first time after ``rel = -1 mm`` that the force is below ``F0 / 2``.
+    Exit: the first time the force exceeds ``F0 / 2`` once the roller is within the
+    distance at which it meets the exit edge, ``sqrt(2 r d) + 0.5 mm`` before it
+    (``d``: the spall depth, or the roller's dip into the notch if smaller), so that an
+    impact on the floor earlier in the traverse is not taken for the exit.
     """
-    window = _spall_window(info)
-    if window is None:
+    spall = _spall_geometry(info)
+    if spall is None:
         return []
-    start, end = window
-    span = end - start
-    pitch = float(info.get("pitch_radius", 1.0))
-    lead = 0.5 * roller_radius / pitch
+    radius = float(spall["raceway_radius"])
+    start = float(spall["centre_angle_from_top"]) - 0.5 * float(spall["length"]) / radius
+    span = float(spall["length"]) / radius
+    half = 0.5 * float(spall["length"])
+    dip = roller_radius - math.sqrt(max(roller_radius**2 - half**2, 0.0))
+    d = min(float(spall["depth"]), dip)
+    meet = (math.sqrt(2.0 * roller_radius * d) + 0.5e-3) / radius
+    lead = 1e-3 / radius
     t = hist["time_s"].to_numpy()
     events = []
     for j in range(n_rollers):
         a_col = f"roller{j}_angle_rad"
         if a_col not in hist:
             continue
-        a = hist[a_col].to_numpy()
+        rel = (hist[a_col].to_numpy() - start + math.pi) % (2 * math.pi) - math.pi
         fn = hist[f"roller{j}_outer_fn"].to_numpy()
-        rel = (a - start + math.pi) % (2 * math.pi) - math.pi  # angle past the spall start
-        before = (rel > -2 * span - lead) & (rel < -span - lead)
-        near = (rel > -lead) & (rel < span + lead)
-        if before.sum() < 2 or near.sum() < 2 or rel[-1] < span:
+        before = rel < -lead
+        # the roller must come from before the spall and get past its exit edge
+        if before.sum() < 3 or rel.max() < span or rel.min() > -lead:
             continue
-        f0 = float(np.median(fn[before]))
-        if not f0 > 0:
+        first_after = np.flatnonzero(~before & (rel < span + lead))
+        f0 = float(np.median(fn[before & (rel > -2 * span - lead)]))
+        if not f0 > 0 or first_after.size == 0:
             continue
-        idx = np.flatnonzero(near)
-        drop = idx[fn[idx] < 0.95 * f0]
-        if drop.size == 0:
+        k0 = int(first_after[0])
+        low = k0 + np.flatnonzero(fn[k0:] < 0.5 * f0)
+        if low.size == 0:
             continue
-        i_entry = int(drop[0])
-        after = np.arange(i_entry, len(t))
-        # minimum within the passage, then the first return above half the load
-        stop = np.flatnonzero(rel[after] > span + 2 * lead)
-        seg = after[: stop[0]] if stop.size else after
-        i_min = int(seg[np.argmin(fn[seg])])
-        back = np.flatnonzero(fn[i_min:] > 0.5 * f0)
-        if back.size == 0:
+        i_entry = int(low[0])
+        up = np.flatnonzero((np.arange(len(t)) > i_entry) & (rel >= span - meet) & (fn > 0.5 * f0))
+        if up.size == 0:
             continue
-        i_exit = i_min + int(back[0])
+        i_exit = int(up[0])
+        i_meet = int(np.flatnonzero(rel >= span - meet)[0])
         events.append(
             SpallEvent(
                 roller=j,
                 entry_time_s=float(t[i_entry]),
                 exit_time_s=float(t[i_exit]),
+                floor_window_s=(float(t[min(i_entry + 1, i_meet)]), float(t[i_meet])),
                 force_before_N=f0,
-                force_min_N=float(fn[i_min]),
             )
         )
     events.sort(key=lambda e: e["entry_time_s"])
     return events
+
+
+def passage_signature(
+    hist: pd.DataFrame, event: Mapping, signal: str, window_s: float = 3e-4
+) -> dict[str, float]:
+    """Force and acceleration around one passage: what issue 6 says the physics shows.
+
+    Windows: entry ``[entry - window, entry + window / 2]``; traverse (with any floor
+    impact) from half a window after entry to the exit edge; exit ``[exit, exit +
+    window]``. Returns the largest roller force in the entry and exit windows over
+    ``F0`` (no impulse at entry: about 1 or less), the number of separate impulses at
+    exit (rises above ``F0 / 2`` after falls below ``F0 / 4``), and the largest |a - median|
+    of ``signal`` in each window.
+    """
+    t = hist["time_s"].to_numpy()
+    j = int(event["roller"])
+    fn = hist[f"roller{j}_outer_fn"].to_numpy()
+    acc = hist[signal].to_numpy()
+    acc = np.abs(acc - np.median(acc))
+    f0 = float(event["force_before_N"])
+    te, tx = float(event["entry_time_s"]), float(event["exit_time_s"])
+    entry = (t >= te - window_s) & (t <= te + 0.5 * window_s)
+    floor = (t > te + 0.5 * window_s) & (t < tx)
+    leave = (t >= tx) & (t <= tx + window_s)
+    impulses, armed = 0, True
+    for f in fn[leave]:
+        if armed and f > 0.5 * f0:
+            impulses, armed = impulses + 1, False
+        elif f < 0.25 * f0:
+            armed = True
+
+    def peak(a, sel):
+        return float(a[sel].max()) if sel.any() else 0.0
+
+    return {
+        "entry_force_peak_ratio": peak(fn, entry) / f0,
+        "exit_force_peak_ratio": peak(fn, leave) / f0,
+        "exit_impulses": impulses,
+        "entry_accel_peak": peak(acc, entry),
+        "floor_accel_peak": peak(acc, floor),
+        "exit_accel_peak": peak(acc, leave),
+    }
+
+
+def exit_burst_check(signatures: list[dict]) -> dict:
+    """Exit acceleration burst against entry and floor impact, over all passages."""
+    if not signatures:
+        return check(None, EXIT_BURST_LIMIT, None, "no complete passage")
+    ratios = [
+        s["exit_accel_peak"] / max(s["entry_accel_peak"], s["floor_accel_peak"], 1e-30)
+        for s in signatures
+    ]
+    worst = min(ratios)
+    return check(
+        worst,
+        EXIT_BURST_LIMIT,
+        worst >= EXIT_BURST_LIMIT,
+        "smallest ratio of the exit acceleration peak to the larger of the entry and "
+        "traverse (floor impact) peaks; must be at least the limit",
+    )
 
 
 def restress_check(events: list, bpfo_hz: float) -> dict:
@@ -357,6 +442,10 @@ def run_checks(case: Case, info: Mapping, hist: pd.DataFrame, preload: Mapping) 
     fs = case.run.sample_rate
     sensor = main_sensor(case, hist)
     acc = hist[f"{sensor}_ay"].to_numpy()
+    signatures = [passage_signature(hist, e, f"{sensor}_ay") for e in events]
+    for e, sig in zip(events, signatures, strict=True):
+        e.update(sig)
+    checks["exit_burst"] = exit_burst_check(signatures)
     predicted = predicted_noise_frequencies(case, info)
     measured = noise_frequencies(acc, fs, predicted)
     checks["noise_frequencies"] = noise_check(predicted, measured)

@@ -72,27 +72,6 @@ def _contact_classes():
     return PenaltyContact, RigidCage
 
 
-def _make_cage(RigidCage, model, mesh, case):  # noqa: N803
-    """A rigid cage with the mesh's pocket geometry (constructor of solver/cage.py)."""
-    import inspect
-
-    params = inspect.signature(RigidCage).parameters
-    kwargs = {}
-    if "mesh" in params:
-        kwargs["mesh"] = mesh
-    if "case" in params:
-        kwargs["case"] = case
-    if "mass" in params:
-        kwargs["mass"] = case.cage.mass
-    if "info" in params:
-        kwargs["info"] = mesh.info["cage"]
-    if "params" in params:
-        from taichi_bearing.solver.contact_setup import ContactParameters
-
-        kwargs["params"] = ContactParameters.from_case(case.contact)
-    return RigidCage(model, **kwargs)
-
-
 def build_model(case: Case, mesh: Mesh, arch: str = "cpu", threads: int | None = None):
     """Start Taichi and build the model, contact, cage and recorders of a case."""
     from taichi_bearing.solver import Model, init_taichi
@@ -118,9 +97,10 @@ def build_model(case: Case, mesh: Mesh, arch: str = "cpu", threads: int | None =
     model.contributors.append(contact)
     cage = None
     if RigidCage is not None and case.cage.model == "rigid":
-        cage = _make_cage(RigidCage, model, mesh, case)
-        if cage not in model.contributors:
-            model.contributors.append(cage)
+        cage = RigidCage.from_mesh(
+            model, setup.contact_params, case.cage.mass, case.cage.pocket_clearance
+        )
+        model.contributors.append(cage)
     rollers = RollerMotionRecorder(mesh, model.mass_np, setup.n_rollers)
     recorders = [
         ContactForceRecorder(contact, setup.n_rollers),
@@ -259,6 +239,8 @@ def run_case(
             f"max roller force {max(pre['outer_force_N']):.4g} N ({times['preload']:.1f} s)"
         )
         model.set_initial_velocities()  # ideal rolling from the preloaded positions
+        if bm.cage is not None:
+            bm.cage.set_state(angle=0.0, speed=bm.setup.rates.cage)
         if hasattr(bm.contact, "reset_dissipation"):
             bm.contact.reset_dissipation()
 
