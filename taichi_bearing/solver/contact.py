@@ -33,6 +33,7 @@ from collections.abc import Sequence
 import numpy as np
 import taichi as ti
 
+from taichi_bearing.solver.contact_law import friction_force, normal_force
 from taichi_bearing.solver.contact_setup import (
     ContactPair,
     ContactParameters,
@@ -159,8 +160,9 @@ class PenaltyContact:
         self.cell_start = f(ti.i32, shape=g.n_cells + 1)
         self.cell_fill = f(ti.i32, shape=g.n_cells)
         self.cell_items = f(ti.i32, shape=self.cap)
+        self.cell_surf = f(ti.i32, shape=self.cap)  # surface of each item (contiguous read)
         self.status = f(ti.i32, shape=2)  # 0: overflow flag
-        self.max_move = f(ti.f64, shape=())
+        self.motion = f(ti.f64, shape=2)  # largest move since the build, largest speed
         self.node_force = v2(model.n_nodes)  # contact force on each node, last step
         self.cur = ti.Vector.field(4, ti.f64, shape=self.n_pairs)
         self.acc = ti.Vector.field(4, ti.f64, shape=self.n_pairs)
@@ -179,38 +181,39 @@ class PenaltyContact:
         self.n_samples = 0
         self.rebuilds = 0
         self._built = False
+        self._countdown = 0
+        # Constants baked into this instance's kernels (fewer launch arguments).
+        self._ox, self._oy = (float(o) for o in g.origin)
+        self._h, self._nx, self._ny = float(g.cell), int(g.nx), int(g.ny)
+        self._capture, self._grow = float(g.capture), float(g.capture + g.margin)
+        self._soft = params.penalty_method == "soft"
+        self._scale, self._zeta = float(params.penalty_scale), float(params.damping_ratio)
+        self._mu_s, self._mu_d = float(params.friction_static), float(params.friction_dynamic)
+        self._decay = float(params.friction_decay)
 
     # ------------------------------------------------------------------ search grid
 
     @ti.func
-    def _cell_xy(self, p, ox: ti.f64, oy: ti.f64, h: ti.f64, nx: ti.i32, ny: ti.i32):
-        cx = ti.min(ti.max(int(ti.floor((p[0] - ox) / h)), 0), nx - 1)
-        cy = ti.min(ti.max(int(ti.floor((p[1] - oy) / h)), 0), ny - 1)
+    def _cell_xy(self, p):
+        cx = ti.min(ti.max(int(ti.floor((p[0] - self._ox) / self._h)), 0), self._nx - 1)
+        cy = ti.min(ti.max(int(ti.floor((p[1] - self._oy) / self._h)), 0), self._ny - 1)
         return cx, cy
 
     @ti.func
-    def _seg_cells(self, x: ti.template(), s, ox, oy, h, nx, ny, grow):
+    def _seg_cells(self, x: ti.template(), s):
         """Cell range covered by segment s's bounding box grown by ``grow``."""
         a, b = x[self.seg_a[s]], x[self.seg_b[s]]
-        x0, y0 = self._cell_xy(ti.min(a, b) - grow, ox, oy, h, nx, ny)
-        x1, y1 = self._cell_xy(ti.max(a, b) + grow, ox, oy, h, nx, ny)
+        x0, y0 = self._cell_xy(ti.min(a, b) - self._grow)
+        x1, y1 = self._cell_xy(ti.max(a, b) + self._grow)
         return x0, y0, x1, y1
 
     @ti.kernel
-    def _k_build(
-        self,
-        x: ti.template(),
-        ox: ti.f64,
-        oy: ti.f64,
-        h: ti.f64,
-        nx: ti.i32,
-        ny: ti.i32,
-        grow: ti.f64,
-    ):
+    def _k_build(self, x: ti.template()):
+        nx, ny = self._nx, self._ny
         for c in range(nx * ny + 1):
             self.cell_start[c] = 0
         for s in range(self.n_seg):
-            x0, y0, x1, y1 = self._seg_cells(x, s, ox, oy, h, nx, ny, grow)
+            x0, y0, x1, y1 = self._seg_cells(x, s)
             for cy in range(y0, y1 + 1):
                 for cx in range(x0, x1 + 1):
                     ti.atomic_add(self.cell_start[cy * nx + cx + 1], 1)
@@ -221,28 +224,46 @@ class PenaltyContact:
             self.cell_fill[c] = self.cell_start[c]
         self.status[0] = 0
         for s in range(self.n_seg):
-            x0, y0, x1, y1 = self._seg_cells(x, s, ox, oy, h, nx, ny, grow)
+            x0, y0, x1, y1 = self._seg_cells(x, s)
             for cy in range(y0, y1 + 1):
                 for cx in range(x0, x1 + 1):
                     k = ti.atomic_add(self.cell_fill[cy * nx + cx], 1)
                     if k < self.cap:
                         self.cell_items[k] = s
+                        self.cell_surf[k] = self.seg_surf[s]
                     else:
                         self.status[0] = 1
         for t in range(self.n_track):
             self.x_ref[t] = x[self.track[t]]
 
     @ti.kernel
-    def _k_max_move(self, x: ti.template()):
-        self.max_move[None] = 0.0
+    def _k_motion(self, x: ti.template(), v: ti.template()):
+        self.motion[0] = 0.0
+        self.motion[1] = 0.0
         for t in range(self.n_track):
-            d = (x[self.track[t]] - self.x_ref[t]).norm()
-            ti.atomic_max(self.max_move[None], d)
+            i = self.track[t]
+            ti.atomic_max(self.motion[0], (x[i] - self.x_ref[t]).norm())
+            ti.atomic_max(self.motion[1], v[i].norm())
+
+    def _check_grid(self, model: Model) -> None:
+        """Rebuild the grid if a surface node has moved half the margin; schedule the next
+        check from the fastest surface node (4x safety on its speed), so that positions
+        are read back only every so many steps."""
+        half = 0.5 * self.grid.margin
+        moved = 0.0
+        if self._built:
+            self._k_motion(model.x, model.v)
+            moved, speed = (float(a) for a in self.motion.to_numpy())
+        if not self._built or moved > 0.5 * half:
+            self._rebuild(model)
+            moved = 0.0
+            self._k_motion(model.x, model.v)
+            speed = float(self.motion[1])
+        steps = (half - moved) / (4.0 * max(speed, 1e-30) * model.dt)
+        self._countdown = int(min(max(steps, 1.0), 1000.0))
 
     def _rebuild(self, model: Model) -> None:
-        g = self.grid
-        ox, oy = g.origin
-        self._k_build(model.x, ox, oy, g.cell, g.nx, g.ny, g.capture + g.margin)
+        self._k_build(model.x)
         if int(self.status[0]):
             raise RuntimeError("contact search grid overflow: segments far larger than meshed")
         self.rebuilds += 1
@@ -258,18 +279,6 @@ class PenaltyContact:
         mass: ti.template(),
         f_ext: ti.template(),
         dt: ti.f64,
-        soft: ti.i32,
-        scale: ti.f64,
-        mu_s: ti.f64,
-        mu_d: ti.f64,
-        decay: ti.f64,
-        zeta: ti.f64,
-        ox: ti.f64,
-        oy: ti.f64,
-        h: ti.f64,
-        nx: ti.i32,
-        ny: ti.i32,
-        capture: ti.f64,
     ):
         for p in range(self.n_pairs):
             self.cur[p] = ti.Vector.zero(ti.f64, 4)
@@ -279,15 +288,15 @@ class PenaltyContact:
             i = self.q_node[q]
             S = self.q_surf[q]
             xp = x[i]
-            cx, cy = self._cell_xy(xp, ox, oy, h, nx, ny)
-            c = cy * nx + cx
+            cx, cy = self._cell_xy(xp)
+            c = cy * self._nx + cx
             best = -1
             best_d2 = 1e300
             best_pen = 0.0
             best_xi = 0.0
             for k in range(self.cell_start[c], self.cell_start[c + 1]):
-                s = self.cell_items[k]
-                if self.pass_pair[S * self.n_surf + self.seg_surf[s]] >= 0:
+                if self.pass_pair[S * self.n_surf + self.cell_surf[k]] >= 0:
+                    s = self.cell_items[k]
                     ia, ib = self.seg_a[s], self.seg_b[s]
                     if ia != i and ib != i:
                         a = x[ia]
@@ -301,7 +310,7 @@ class PenaltyContact:
                         if d2 < best_d2 or (d2 == best_d2 and s < best):
                             best, best_d2, best_xi = s, d2, xi
                             best_pen = -(xp - a).dot(ti.Vector([d[1], -d[0]])) / ti.sqrt(l2)
-            if best_pen <= 0.0 or best_pen >= capture:
+            if best_pen <= 0.0 or best_pen >= self._capture:
                 best = -1
             if best < 0:
                 # Open: the tangential spring's energy is lost (counted as friction).
@@ -313,19 +322,25 @@ class PenaltyContact:
                 self.q_en[q] = 0.0
                 self.q_et[q] = 0.0
             else:
-                self._apply(
-                    q, i, S, best, best_pen, best_xi,
-                    x, v, mass, f_ext, dt, soft, scale, mu_s, mu_d, decay, zeta,
-                )  # fmt: skip
+                self._apply(q, i, S, best, best_pen, best_xi, x, v, mass, f_ext, dt)
         for p in range(self.n_pairs):
             self.acc[p] += self.cur[p]
 
     @ti.func
     def _apply(
-        self, q, i, S, s, pen, xi_raw,
-        x: ti.template(), v: ti.template(), mass: ti.template(), f_ext: ti.template(),
-        dt, soft, scale, mu_s, mu_d, decay, zeta,
-    ):  # fmt: skip
+        self,
+        q,
+        i,
+        S,
+        s,
+        pen,
+        xi_raw,
+        x: ti.template(),
+        v: ti.template(),
+        mass: ti.template(),
+        f_ext: ti.template(),
+        dt,
+    ):
         ia, ib = self.seg_a[s], self.seg_b[s]
         xi = ti.min(ti.max(xi_raw, 0.0), 1.0)
         d = x[ib] - x[ia]
@@ -335,13 +350,12 @@ class PenaltyContact:
         m_m = (1.0 - xi) * mass[ia] + xi * mass[ib]
         m_eff = mass[i] * m_m / (mass[i] + m_m)
         k = self.seg_k[s]
-        if soft != 0:
-            k = scale * m_eff / (dt * dt)
+        if ti.static(self._soft):
+            k = self._scale * m_eff / (dt * dt)
         vrel = v[i] - ((1.0 - xi) * v[ia] + xi * v[ib])
         vn = vrel.dot(nv)
         vt = vrel.dot(tv)
-        fn_el = k * pen
-        fn = ti.max(fn_el - 2.0 * zeta * ti.sqrt(k * m_eff) * vn, 0.0)
+        fn, e_damp = normal_force(k, pen, self._zeta, m_eff, vn, dt)
         # Friction: keep the stick state on the same or a neighbouring segment.
         old = self.q_seg[q]
         keep = 0
@@ -358,16 +372,11 @@ class PenaltyContact:
             e_t0 = self.q_et[q]
         else:
             self.diss[0] += self.q_et[q]  # reset: the old spring energy is lost
-        ft = ft0 - k * dt * vt
-        mu = mu_d + (mu_s - mu_d) * ti.exp(-decay * ti.abs(vt))
-        lim = mu * fn
-        if ti.abs(ft) > lim:
-            ft = lim if ft > 0.0 else -lim
-        e_t = 0.5 * ft * ft / k
-        # Dissipated: by friction, its midpoint work on the slip less the spring's energy
-        # change; by damping, the work of the force beyond the elastic one.
-        self.diss[0] += -0.5 * (ft0 + ft) * vt * dt - (e_t - e_t0)
-        self.diss[1] += -(fn - fn_el) * vn * dt
+        ft, e_t, e_fric = friction_force(
+            ft0, e_t0, k, vt, fn, dt, self._mu_s, self._mu_d, self._decay
+        )
+        self.diss[0] += e_fric
+        self.diss[1] += e_damp
         F = fn * nv + ft * tv
         f_ext[i] += F
         f_ext[ia] += -(1.0 - xi) * F
@@ -390,22 +399,10 @@ class PenaltyContact:
 
     def add_forces(self, model: Model, t: float) -> None:
         """Add this step's contact forces into ``model.f_extra`` (see module notes)."""
-        g = self.grid
-        if self._built:
-            self._k_max_move(model.x)
-            rebuild = float(self.max_move[None]) > 0.5 * g.margin
-        else:
-            rebuild = True
-        if rebuild:
-            self._rebuild(model)
-        pr = self.params
-        ox, oy = g.origin
-        self._k_contact(
-            model.x, model.v, model.mass, model.f_extra, model.dt,
-            int(pr.penalty_method == "soft"), pr.penalty_scale,
-            pr.friction_static, pr.friction_dynamic, pr.friction_decay, pr.damping_ratio,
-            ox, oy, g.cell, g.nx, g.ny, g.capture,
-        )  # fmt: skip
+        self._countdown -= 1
+        if self._countdown <= 0:
+            self._check_grid(model)
+        self._k_contact(model.x, model.v, model.mass, model.f_extra, model.dt)
         self.n_samples += 1
 
     # ------------------------------------------------------------------ read-out

@@ -156,25 +156,31 @@ class GridSpec:
         return self.nx * self.ny
 
 
-def grid_spec(points: np.ndarray, seg_lengths: np.ndarray, pad: float = 0.15) -> GridSpec:
+def grid_spec(
+    points: np.ndarray, seg_lengths: np.ndarray, pad: float = 0.15, density: float = 4.0
+) -> GridSpec:
     """Size the search grid for surfaces with these node positions and segment lengths.
 
     The cell is at least the longest segment plus twice (capture + margin), so a segment,
     with its bounding box grown by capture + margin, overlaps at most 4 cells; and at
-    least ``sqrt(box area / n_segments)``, so the number of cells stays of the order of the
-    number of segments (the search stays linear in the surface size). The box is padded
+    least ``sqrt(box area / (density n_segments))``, so there are at most ``density``
+    cells per segment (the search stays linear in the surface size). The box is padded
     by ``pad`` of its size; points outside it fall into the border cells (still correct).
+    Capture depth: 0.3 x the longest segment; margin: 0.25 x the median segment.
     """
     l_max = float(seg_lengths.max())
-    capture = 0.5 * l_max
-    margin = 0.5 * float(np.median(seg_lengths))
+    capture = 0.3 * l_max
+    margin = 0.25 * float(np.median(seg_lengths))
     lo = points.min(axis=0)
     hi = points.max(axis=0)
     size = np.maximum(hi - lo, l_max)
     lo = lo - pad * size - 2 * (capture + margin)
     hi = hi + pad * size + 2 * (capture + margin)
     ext = hi - lo
-    cell = max(l_max + 2.0 * (capture + margin), math.sqrt(ext[0] * ext[1] / len(seg_lengths)))
+    cell = max(
+        l_max + 2.0 * (capture + margin),
+        math.sqrt(ext[0] * ext[1] / (density * len(seg_lengths))),
+    )
     nx = max(1, math.ceil(ext[0] / cell))
     ny = max(1, math.ceil(ext[1] / cell))
     return GridSpec((float(lo[0]), float(lo[1])), cell, nx, ny, capture, margin)

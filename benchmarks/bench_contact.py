@@ -1,0 +1,106 @@
+"""Cost of penalty contact per step on the default bearing mesh, next to the element forces.
+
+Usage::
+
+    python benchmarks/bench_contact.py [--case cases/line_spall.yaml] [--steps 200]
+                                       [--threads 0] [--arch cpu]
+
+Pairs: every roller against the outer and the inner raceway (2 Z pairs, two-pass). The
+bodies are given the rigid velocities of ideal rolling so that the grid is rebuilt as it
+would be in a run. Columns: ms per step for the element/node kernels alone (the baseline,
+``Model.advance`` without contributors, per-step launches), for the contact alone
+(``add_forces``), and for a full step with contact; contact as a share of the full step;
+grid rebuilds. A second row forces a grid rebuild every step (the worst case of the
+search).
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+
+ROOT = Path(__file__).resolve().parents[1]
+sys.path.insert(0, str(ROOT))
+
+from taichi_bearing.case import load_case  # noqa: E402
+from taichi_bearing.mesh.bearing_mesh import build_bearing_mesh  # noqa: E402
+from taichi_bearing.mesh.spec import spec_from_case  # noqa: E402
+from taichi_bearing.solver.backend import init_taichi  # noqa: E402
+
+
+def _time(fn, steps: int) -> float:
+    fn(2)  # compile
+    t0 = time.perf_counter()
+    fn(steps)
+    return (time.perf_counter() - t0) / steps * 1e3
+
+
+def main() -> int:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--case", default=str(ROOT / "cases" / "line_spall.yaml"))
+    ap.add_argument("--steps", type=int, default=200)
+    ap.add_argument("--threads", type=int, default=0)
+    ap.add_argument("--arch", default="cpu")
+    args = ap.parse_args()
+    init_taichi(args.arch, threads=args.threads or None)
+    from taichi_bearing.solver.contact import ContactPair, ContactParameters, PenaltyContact
+    from taichi_bearing.solver.loads import RigidVelocity
+    from taichi_bearing.solver.materials import Material
+    from taichi_bearing.solver.model import Model
+
+    case = load_case(args.case)
+    mesh = build_bearing_mesh(spec_from_case(case))
+    info = mesh.info
+    mat = case.material
+    z = len(info["roller_centres"])
+    steel = Material(mat.youngs_modulus, mat.poissons_ratio, mat.density)
+    # Rolling-like motion: rings turn, rollers orbit and spin (exact kinematics are not
+    # needed for the cost, only realistic motion of the surfaces).
+    w = 50.0
+    vel = [RigidVelocity("inner_ring", omega=w)]
+    for j, c in enumerate(info["roller_centres"]):
+        v = 0.4 * w * np.array([-c[1], c[0]])
+        vel.append(RigidVelocity(f"roller{j}", omega=-3.0 * w, center=tuple(c), velocity=tuple(v)))
+    model = Model(mesh, steel, thickness=case.bearing.roller_length, initial_velocities=vel)
+    pairs = []
+    for j in range(z):
+        pairs.append(ContactPair(f"roller{j}_outer", f"roller{j}", "outer_raceway"))
+        pairs.append(ContactPair(f"roller{j}_inner", f"roller{j}", "inner_raceway"))
+    params = ContactParameters.from_case(case.contact)
+    contact = PenaltyContact(model, pairs, params)
+    n_surf_nodes = contact.n_query
+    print(
+        f"mesh: {mesh.n_elements} elements, {mesh.n_nodes} nodes; contact: {len(pairs)} pairs, "
+        f"{n_surf_nodes} query nodes, {contact.n_seg} segments, grid "
+        f"{contact.grid.nx} x {contact.grid.ny} cells of {contact.grid.cell * 1e3:.2f} mm; "
+        f"dt {model.dt:.3g} s"
+    )
+
+    base = _time(lambda n: model.advance(n, serial=False), args.steps)
+    contact_only = _time(lambda n: [contact.add_forces(model, 0.0) for _ in range(n)], args.steps)
+    model.contributors.append(contact)
+    r0 = contact.rebuilds
+    full = _time(lambda n: model.advance(n), args.steps)
+    rebuilds = contact.rebuilds - r0
+
+    def rebuild_every_step(n: int) -> None:
+        for _ in range(n):
+            contact._rebuild(model)
+            contact.add_forces(model, 0.0)
+
+    worst = _time(rebuild_every_step, args.steps)
+    print(f"{'':34s}{'ms/step':>10s}{'share of full step':>20s}")
+    print(f"{'elements + nodes (baseline)':34s}{base:10.3f}")
+    print(f"{'contact alone (add_forces)':34s}{contact_only:10.3f}{contact_only / full:20.1%}")
+    print(f"{'full step with contact':34s}{full:10.3f}")
+    print(f"{'contact with a rebuild every step':34s}{worst:10.3f}{worst / (base + worst):20.1%}")
+    print(f"grid rebuilds in {args.steps + 2} full steps: {rebuilds}")
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())

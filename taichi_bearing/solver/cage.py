@@ -1,0 +1,286 @@
+"""A rigid cage: a ring with one pocket per roller, turning about the bearing centre with
+one rotational degree of freedom, driven by penalty contact with the rollers' surfaces.
+
+Pocket ``j`` is centred on the radial line at angle ``pocket_angles[j] + angle`` and has
+two flat walls parallel to that line, at ``+-half_gap`` from it (tangentially), spanning
+the cage ring ``inner_radius <= r <= outer_radius``. A surface node of roller ``j`` whose
+tangential offset from the pocket line exceeds ``half_gap`` penetrates a wall; it gets
+the force of :mod:`~taichi_bearing.solver.contact_law` (normal along the pocket's
+tangential direction, friction along the wall), the cage the reaction torque. The cage
+angle and speed are integrated with the model's leapfrog: ``omega^{n+1/2} = omega^{n-1/2}
++ dt T^n / I``, ``angle^{n+1} = angle^n + dt omega^{n+1/2}``.
+
+Penalty stiffness of a node: ``"segment"``, the mean of the LS-DYNA stiffness
+``f_s K L^2 t / area`` of its two roller segments; ``"soft"``, ``f_s m / dt^2`` with the
+node mass (the cage counts as infinitely heavy next to one node).
+"""
+
+# No `from __future__ import annotations`: Taichi reads kernel annotations at definition.
+from collections.abc import Sequence
+
+import numpy as np
+import taichi as ti
+
+from taichi_bearing.solver.contact_law import friction_force, normal_force
+from taichi_bearing.solver.contact_setup import ContactParameters, segment_stiffness
+from taichi_bearing.solver.model import Model
+
+__all__ = ["RigidCage"]
+
+
+@ti.data_oriented
+class RigidCage:
+    """Rigid cage as a :class:`~taichi_bearing.solver.model.ForceContributor`.
+
+    Parameters
+    ----------
+    model : Model
+    roller_surfaces : sequence of str
+        Surface of the roller in each pocket (``Mesh.surfaces`` names), pocket order.
+    pocket_angles : sequence of float
+        Polar angle of each pocket's centre line at cage angle 0, rad.
+    half_gap : float
+        Distance of each pocket wall from the pocket's centre line, m (roller radius
+        plus half the pocket clearance).
+    inner_radius, outer_radius : float
+        Radial extent of the pocket walls, m.
+    inertia : float
+        Polar moment of inertia of the cage about the centre, kg m^2.
+    params : ContactParameters
+    center : (float, float)
+        Bearing centre.
+    """
+
+    def __init__(
+        self,
+        model: Model,
+        roller_surfaces: Sequence[str],
+        pocket_angles: Sequence[float],
+        half_gap: float,
+        inner_radius: float,
+        outer_radius: float,
+        inertia: float,
+        params: ContactParameters,
+        center: tuple[float, float] = (0.0, 0.0),
+    ) -> None:
+        if len(roller_surfaces) != len(pocket_angles) or not roller_surfaces:
+            raise ValueError("need one pocket angle per roller surface")
+        if not 0 <= inner_radius < outer_radius:
+            raise ValueError("need 0 <= inner_radius < outer_radius")
+        if not (half_gap > 0 and inertia > 0):
+            raise ValueError("half_gap and inertia must be positive")
+        mesh = model.mesh
+        nodes, roller, kk = [], [], []
+        lam = model.lam.to_numpy()[: model.n_elements]
+        mu = model.mu.to_numpy()[: model.n_elements]
+        for j, name in enumerate(roller_surfaces):
+            seg = np.asarray(mesh.surfaces[name], dtype=np.int64)
+            k_seg = segment_stiffness(
+                mesh, seg, lam, mu, model.area_np, model.thickness, params.penalty_scale
+            )
+            ids = np.unique(seg.ravel())
+            k_sum = np.zeros(mesh.n_nodes)
+            count = np.zeros(mesh.n_nodes)
+            for end in (0, 1):
+                np.add.at(k_sum, seg[:, end], k_seg)
+                np.add.at(count, seg[:, end], 1.0)
+            nodes.append(ids)
+            roller.append(np.full(len(ids), j))
+            kk.append(k_sum[ids] / count[ids])
+        node_ids = np.concatenate(nodes).astype(np.int32)
+        self.n_rollers = nz = len(roller_surfaces)
+        self.n_nodes = nn = len(node_ids)
+        self.inertia = float(inertia)
+        self.half_gap = float(half_gap)
+        self.params = params
+        self._cx, self._cy = (float(c) for c in center)
+        self._r_in, self._r_out = float(inner_radius), float(outer_radius)
+        self._h = float(half_gap)
+        self._soft = params.penalty_method == "soft"
+        self._scale, self._zeta = float(params.penalty_scale), float(params.damping_ratio)
+        self._mu_s, self._mu_d = float(params.friction_static), float(params.friction_dynamic)
+        self._decay = float(params.friction_decay)
+        # Deeper than the gap no wall is meant (the node would be past the pocket centre).
+        self._capture = float(half_gap)
+
+        self.node = ti.field(ti.i32, shape=nn)
+        self.roller = ti.field(ti.i32, shape=nn)
+        self.k = ti.field(ti.f64, shape=nn)
+        self.ft = ti.field(ti.f64, shape=nn)  # friction spring force along the wall
+        self.side = ti.field(ti.i32, shape=nn)  # wall in contact last step: +1, -1, 0
+        self.en = ti.field(ti.f64, shape=nn)
+        self.et = ti.field(ti.f64, shape=nn)
+        self.angle0 = ti.field(ti.f64, shape=nz)
+        self.cur = ti.Vector.field(3, ti.f64, shape=nz)  # on roller: fx, fy, tangential
+        self.acc = ti.Vector.field(3, ti.f64, shape=nz)
+        self.state = ti.field(ti.f64, shape=3)  # angle, speed, torque
+        self.diss = ti.field(ti.f64, shape=2)  # friction, damping
+        self.node.from_numpy(node_ids)
+        self.roller.from_numpy(np.concatenate(roller).astype(np.int32))
+        self.k.from_numpy(np.concatenate(kk))
+        self.angle0.from_numpy(np.asarray(pocket_angles, dtype=float))
+        self.n_samples = 0
+
+    @classmethod
+    def from_mesh(
+        cls, model: Model, params: ContactParameters, cage_mass: float, pocket_clearance: float
+    ) -> "RigidCage":
+        """The cage of a bearing mesh (``mesh.info["cage"]``, rollers ``roller{j}``): a
+        ring between the nominal inner and outer radii, ``I = m (r_i^2 + r_o^2) / 2``,
+        pocket walls at roller radius + half the pocket clearance."""
+        info = model.mesh.info
+        cage = info["cage"]
+        angles = np.asarray(cage["pocket_angles"], dtype=float)
+        r_i, r_o = float(cage["inner_radius"]), float(cage["outer_radius"])
+        return cls(
+            model,
+            [f"roller{j}" for j in range(len(angles))],
+            angles,
+            float(info["roller_radius"]) + 0.5 * pocket_clearance,
+            r_i,
+            r_o,
+            0.5 * cage_mass * (r_i**2 + r_o**2),
+            params,
+        )
+
+    # ------------------------------------------------------------------ kernel
+
+    @ti.kernel
+    def _k_step(
+        self,
+        x: ti.template(),
+        v: ti.template(),
+        mass: ti.template(),
+        f_ext: ti.template(),
+        dt: ti.f64,
+        dt_v: ti.f64,
+    ):
+        for j in range(self.n_rollers):
+            self.cur[j] = ti.Vector.zero(ti.f64, 3)
+        self.state[2] = 0.0
+        for n in range(self.n_nodes):
+            th, w = self.state[0], self.state[1]
+            i = self.node[n]
+            j = self.roller[n]
+            phi = self.angle0[j] + th
+            er = ti.Vector([ti.cos(phi), ti.sin(phi)])
+            et = ti.Vector([-er[1], er[0]])
+            d = x[i] - ti.Vector([self._cx, self._cy])
+            s = d.dot(et)
+            r = d.dot(er)
+            side = 0
+            pen = 0.0
+            if r >= self._r_in and r <= self._r_out:
+                if s > self._h:
+                    side, pen = 1, s - self._h
+                elif s < -self._h:
+                    side, pen = -1, -self._h - s
+            if pen > self._capture:
+                side = 0
+            if side == 0 or side != self.side[n]:
+                self.diss[0] += self.et[n]  # friction spring released
+                self.ft[n] = 0.0
+                self.et[n] = 0.0
+            self.side[n] = side
+            self.en[n] = 0.0
+            if side != 0:
+                nv = -float(side) * et  # pushes the node back into the pocket
+                k = self.k[n]
+                m = mass[i]
+                if ti.static(self._soft):
+                    k = self._scale * m / (dt * dt)
+                vrel = v[i] - w * ti.Vector([-d[1], d[0]])
+                vn = vrel.dot(nv)
+                vt = vrel.dot(er)
+                fn, e_damp = normal_force(k, pen, self._zeta, m, vn, dt)
+                ft, e_t, e_fric = friction_force(
+                    self.ft[n], self.et[n], k, vt, fn, dt, self._mu_s, self._mu_d, self._decay
+                )
+                F = fn * nv + ft * er
+                f_ext[i] += F
+                self.cur[j] += ti.Vector([F[0], F[1], F.dot(et)])
+                # Reaction -F on the cage at d: torque d x (-F).
+                self.state[2] += -(d[0] * F[1] - d[1] * F[0])
+                self.ft[n] = ft
+                self.et[n] = e_t
+                self.en[n] = 0.5 * k * pen * pen
+                self.diss[0] += e_fric
+                self.diss[1] += e_damp
+        for j in range(self.n_rollers):
+            self.acc[j] += self.cur[j]
+        ti.loop_config(serialize=True)
+        for _ in range(1):
+            w_new = self.state[1] + dt_v * self.state[2] / self.inertia
+            self.state[1] = w_new
+            self.state[0] = self.state[0] + dt * w_new
+
+    # ------------------------------------------------------------------ ForceContributor
+
+    def add_forces(self, model: Model, t: float) -> None:
+        """Pocket forces into ``model.f_extra``; then the cage's own leapfrog step."""
+        dt = model.dt
+        dt_v = 0.5 * dt if model.first else dt
+        self._k_step(model.x, model.v, model.mass, model.f_extra, dt, dt_v)
+        self.n_samples += 1
+
+    # ------------------------------------------------------------------ state and read-out
+
+    @property
+    def angle(self) -> float:
+        """Cage angle, rad (at the model's current time)."""
+        return float(self.state[0])
+
+    @property
+    def speed(self) -> float:
+        """Cage angular speed, rad/s (at the last half step)."""
+        return float(self.state[1])
+
+    def set_state(self, angle: float | None = None, speed: float | None = None) -> None:
+        """Set the angle (rad) and/or speed (rad/s), e.g. to ideal rolling at the start."""
+        if angle is not None:
+            self.state[0] = float(angle)
+        if speed is not None:
+            self.state[1] = float(speed)
+
+    def pocket_forces(self) -> np.ndarray:
+        """Force of the cage on each roller in the last step, shape (Z, 3): fx, fy and the
+        component along the pocket's tangential direction (+ = pushed forward, ccw), N."""
+        return self.cur.to_numpy()[: self.n_rollers].copy()
+
+    def pop_sample_means(self) -> np.ndarray:
+        """Mean of :meth:`pocket_forces` over the steps since the last call; restarts."""
+        s = self.acc.to_numpy()[: self.n_rollers] / max(self.n_samples, 1)
+        self.acc.fill(0.0)
+        self.n_samples = 0
+        return s
+
+    def energy(self, model: Model | None = None) -> float:
+        """Cage kinetic energy plus the penalty energy stored at the pocket walls, J."""
+        e = self.energies()
+        return e["kinetic"] + e["elastic"]
+
+    def energies(self) -> dict[str, float]:
+        """``kinetic`` (I w^2 / 2), ``elastic`` (stored penalty), ``friction`` and
+        ``damping`` (dissipated so far), J."""
+        d = self.diss.to_numpy()
+        n = self.n_nodes
+        return {
+            "kinetic": 0.5 * self.inertia * self.speed**2,
+            "elastic": float(self.en.to_numpy()[:n].sum() + self.et.to_numpy()[:n].sum()),
+            "friction": float(d[0]),
+            "damping": float(d[1]),
+        }
+
+    _STATE = ("ft", "side", "en", "et", "state", "diss", "acc")
+
+    def state_arrays(self) -> dict[str, np.ndarray]:
+        """Everything needed to continue a run (checkpoints)."""
+        out = {f"cage_{k}": getattr(self, k).to_numpy() for k in self._STATE}
+        out["cage_n_samples"] = np.int64(self.n_samples)
+        return out
+
+    def load_state_arrays(self, arrays) -> None:
+        """Restore :meth:`state_arrays`."""
+        for k in self._STATE:
+            getattr(self, k).from_numpy(np.asarray(arrays[f"cage_{k}"]))
+        self.n_samples = int(arrays["cage_n_samples"])

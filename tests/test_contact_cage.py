@@ -1,0 +1,93 @@
+"""Rigid cage: no force on a roller centred in its pocket; a roller orbiting at constant
+speed drives a cage at rest up to its own angular speed, without adding energy."""
+
+# No `from __future__ import annotations`: Taichi reads kernel annotations at definition.
+
+import numpy as np
+import pytest
+
+from taichi_bearing.mesh.primitives import disk_mesh
+from taichi_bearing.solver.backend import init_taichi
+from taichi_bearing.solver.cage import RigidCage
+from taichi_bearing.solver.contact import ContactParameters
+from taichi_bearing.solver.loads import PrescribedRotation
+from taichi_bearing.solver.materials import Material
+from taichi_bearing.solver.model import Model
+
+R_PITCH, R_ROLLER, CLEARANCE = 0.03, 0.005, 20e-6
+OMEGA = 100.0
+INERTIA = 0.05 * R_PITCH**2  # a 50 g ring on the pitch circle
+
+
+@pytest.fixture(scope="module", autouse=True)
+def taichi_cpu():
+    init_taichi("cpu")
+
+
+def orbiting_roller(omega: float) -> tuple[Model, RigidCage]:
+    """One roller on the pitch circle at 12 o'clock, orbiting rigidly at ``omega``, in
+    the pocket of a cage at rest."""
+    mesh = disk_mesh(R_ROLLER, 32)
+    mesh.nodes = mesh.nodes + np.array([0.0, R_PITCH])
+    mesh.surfaces["roller0"] = mesh.surfaces["outer"]
+    ids = np.arange(mesh.n_nodes)
+    model = Model(
+        mesh,
+        Material(210e9, 0.3, 7850.0),
+        constraints=[PrescribedRotation(ids, (0.0, 0.0), omega=omega)],
+    )
+    cage = RigidCage(
+        model,
+        ["roller0"],
+        [np.pi / 2],
+        half_gap=R_ROLLER + 0.5 * CLEARANCE,
+        inner_radius=R_PITCH - 0.6 * R_ROLLER,
+        outer_radius=R_PITCH + 0.6 * R_ROLLER,
+        inertia=INERTIA,
+        params=ContactParameters(damping_ratio=0.2),
+    )
+    model.contributors.append(cage)
+    return model, cage
+
+
+def test_no_pocket_force_on_a_centred_roller():
+    model, cage = orbiting_roller(OMEGA)
+    cage.set_state(speed=OMEGA)  # turning with the roller, the roller stays centred
+    for _ in range(20):
+        model.advance(50)
+        assert np.all(cage.pocket_forces() == 0.0)
+    assert cage.speed == OMEGA
+    assert cage.angle == pytest.approx(OMEGA * model.time, rel=1e-9)
+
+
+def test_orbiting_roller_drives_the_cage_to_its_speed():
+    model, cage = orbiting_roller(OMEGA)
+    gap_angle = 0.5 * CLEARANCE / R_PITCH
+    times, angles, speeds = [], [], []
+    pushed = 0.0
+    for _ in range(200):
+        model.advance(100)
+        times.append(model.time)
+        angles.append(cage.angle)
+        speeds.append(cage.speed)
+        pushed = max(pushed, cage.pop_sample_means()[0, 2])
+    t, th, w = map(np.asarray, (times, angles, speeds))
+    lag = th - OMEGA * t  # cage angle less the roller's
+    # The roller pushed the cage forward (tangential force on it from the cage < 0 while
+    # it pushes: the cage pushes back), and the cage stays within the pocket clearance.
+    assert pushed != 0.0
+    # Penetration bound: the cage's kinetic energy relative to the roller, I w^2 / 2,
+    # taken up by one node's penalty spring.
+    k_min = cage.k.to_numpy().min()
+    pen_angle = np.sqrt(INERTIA * OMEGA**2 / k_min) / R_PITCH
+    bound = gap_angle + pen_angle
+    print(f"largest |lag| / (gap + penetration bound) = {np.abs(lag).max() / bound:.3f}")
+    assert np.all(np.abs(lag) < bound)
+    # No energy from the contact: relative to the roller, the cage never moves faster
+    # than it did when it was hit at rest.
+    assert np.all(np.abs(w - OMEGA) <= 1.01 * OMEGA)
+    # Mean speed over the second half: the roller's (bounded by the clearance).
+    half = t > t[-1] / 2
+    mean = (th[-1] - th[half][0]) / (t[-1] - t[half][0])
+    print(f"cage mean speed / roller speed - 1 = {mean / OMEGA - 1:+.2e}, dt {model.dt:.3g}")
+    assert mean == pytest.approx(OMEGA, rel=0.01)
