@@ -111,6 +111,7 @@ class RigidCage:
         self.en = ti.field(ti.f64, shape=nn)
         self.et = ti.field(ti.f64, shape=nn)
         self.angle0 = ti.field(ti.f64, shape=nz)
+        self.radial = ti.Vector.field(2, ti.f64, shape=nz)  # pocket directions this step
         self.cur = ti.Vector.field(3, ti.f64, shape=nz)  # on roller: fx, fy, tangential
         self.acc = ti.Vector.field(3, ti.f64, shape=nz)
         self.state = ti.field(ti.f64, shape=3)  # angle, speed, torque
@@ -157,13 +158,14 @@ class RigidCage:
     ):
         for j in range(self.n_rollers):
             self.cur[j] = ti.Vector.zero(ti.f64, 3)
+            phi = self.angle0[j] + self.state[0]
+            self.radial[j] = ti.Vector([ti.cos(phi), ti.sin(phi)])
         self.state[2] = 0.0
         for n in range(self.n_nodes):
-            th, w = self.state[0], self.state[1]
+            w = self.state[1]
             i = self.node[n]
             j = self.roller[n]
-            phi = self.angle0[j] + th
-            er = ti.Vector([ti.cos(phi), ti.sin(phi)])
+            er = self.radial[j]
             et = ti.Vector([-er[1], er[0]])
             d = x[i] - ti.Vector([self._cx, self._cy])
             s = d.dot(et)
