@@ -228,10 +228,12 @@ def detect_spall_events(
         fn = hist[f"roller{j}_outer_fn"].to_numpy()
         before = rel < -lead
         # the roller must come from before the spall and get past its exit edge
-        if before.sum() < 3 or rel.max() < span or rel.min() > -lead:
+        ref = before & (rel > -2 * span - lead)
+        passes = rel[0] < -lead and rel[-1] >= span and np.all(np.abs(rel) < 1.0)
+        if not passes or ref.sum() < 3:
             continue
         first_after = np.flatnonzero(~before & (rel < span + lead))
-        f0 = float(np.median(fn[before & (rel > -2 * span - lead)]))
+        f0 = float(np.median(fn[ref]))
         if not f0 > 0 or first_after.size == 0:
             continue
         k0 = int(first_after[0])
@@ -353,35 +355,43 @@ def predicted_noise_frequencies(case: Case, info: Mapping) -> dict[str, float]:
 
 def noise_frequencies(
     signal: np.ndarray, fs: float, predicted: Mapping[str, float], band: float = 0.1
-) -> dict[str, float | None]:
+) -> tuple[dict[str, float | None], float]:
     """Frequency of the highest spectral peak within +-``band`` of each prediction (None
-    above Nyquist or for too short a signal)."""
+    above Nyquist), and the spectral resolution (Hz) of the estimate."""
     from diagnostics import psd
 
     x = np.asarray(signal, dtype=float)
     x = x - x.mean()
     if len(x) < 64:
-        return dict.fromkeys(predicted)
-    f, p = psd(x, fs, nperseg=min(4096, len(x)))
+        return dict.fromkeys(predicted), math.inf
+    nperseg = min(4096, len(x))
+    f, p = psd(x, fs, nperseg=nperseg)
+    df = fs / nperseg
     out: dict[str, float | None] = {}
     for name, f0 in predicted.items():
-        sel = (f >= (1 - band) * f0) & (f <= (1 + band) * f0)
+        # at least the neighbouring bins, however coarse the resolution
+        half = max(band * f0, 1.5 * df)
+        sel = (f >= f0 - half) & (f <= f0 + half)
         out[name] = float(f[sel][np.argmax(p[sel])]) if sel.any() and f0 < fs / 2 else None
-    return out
+    return out, df
 
 
-def noise_check(predicted: Mapping[str, float], measured: Mapping[str, float | None]) -> dict:
+def noise_check(
+    predicted: Mapping[str, float], measured: Mapping[str, float | None], resolution: float
+) -> dict:
+    """Distance of the measured peak from each prediction, relative to the prediction;
+    the limit is 5 % or the spectral resolution, whichever is larger."""
     pairs = [(predicted[k], measured[k]) for k in predicted if measured.get(k) is not None]
     if not pairs:
         return check(None, NOISE_LIMIT, None, "no prediction below Nyquist")
     err = max(abs(m - p) / p for p, m in pairs)
+    limit = max(NOISE_LIMIT, resolution / min(p for p, _ in pairs))
     return check(
         err,
-        NOISE_LIMIT,
-        err <= NOISE_LIMIT,
-        "largest relative distance of the spectral peak next to each predicted frequency "
-        "(resolution-limited; band +-10 %): "
-        + ", ".join(f"{k} {predicted[k]:.4g}->{measured[k]}" for k in predicted),
+        limit,
+        err <= limit,
+        f"spectral peak next to each predicted frequency (resolution {resolution:.4g} Hz): "
+        + ", ".join(f"{k} {predicted[k]:.4g} -> {measured[k]} Hz" for k in predicted),
     )
 
 
@@ -447,8 +457,8 @@ def run_checks(case: Case, info: Mapping, hist: pd.DataFrame, preload: Mapping) 
         e.update(sig)
     checks["exit_burst"] = exit_burst_check(signatures)
     predicted = predicted_noise_frequencies(case, info)
-    measured = noise_frequencies(acc, fs, predicted)
-    checks["noise_frequencies"] = noise_check(predicted, measured)
+    measured, resolution = noise_frequencies(acc, fs, predicted)
+    checks["noise_frequencies"] = noise_check(predicted, measured, resolution)
     checks["defect_size"], size = defect_size_check(case, acc, fs)
     return {
         "sensor_names": list(case.sensors),

@@ -1,0 +1,153 @@
+"""The bearing run on the coarse case (cases/validation/coarse_spall.yaml): preload, spin,
+one roller through the spall; and resume against the uninterrupted run.
+
+One run (about half a minute on one thread) is shared by the tests of this module.
+"""
+
+from __future__ import annotations
+
+import math
+import shutil
+
+import numpy as np
+import pytest
+
+from taichi_bearing.case import load_case
+from taichi_bearing.output.histories import read_histories
+from taichi_bearing.quasistatic import analytical_roller_forces
+from taichi_bearing.starter import rolling_rates
+
+COARSE = "cases/validation/coarse_spall.yaml"
+THREADS = 1  # reproducible contact sums (atomics on one thread)
+
+
+@pytest.fixture(scope="module")
+def coarse_run(tmp_path_factory):
+    from taichi_bearing.simulate import run_case
+
+    case = load_case(COARSE)
+    out = tmp_path_factory.mktemp("coarse_run")
+    summary = run_case(case, out, threads=THREADS, quiet=True, post=False)
+    return case, out, summary, read_histories(out)
+
+
+def test_summary_has_every_design_key(coarse_run):
+    from taichi_bearing.output.summary import missing_summary_keys
+
+    _, _, summary, hist = coarse_run
+    assert missing_summary_keys(summary) == []
+    assert summary["status"] == "finished"
+    # a whole number of steps per 10 us sample, plus the first step out of t = 0
+    per_sample = round(1e-5 / summary["dt_s"])
+    assert per_sample * summary["dt_s"] == pytest.approx(1e-5, rel=1e-12)
+    assert summary["n_steps"] == 1 + 200 * per_sample
+    # 100 kHz histories over 2 ms, a row every 10 us
+    assert len(hist) == 200
+    assert np.allclose(np.diff(hist["time_s"]), 1e-5)
+
+
+def test_preload_balances_the_load_and_follows_the_analytical_load_zone(coarse_run):
+    case, _, summary, _ = coarse_run
+    pre = summary["preload"]
+    fy = np.asarray(pre["outer_fy_N"])
+    # the rollers push the outer ring up with the radial load (the plate carries W)
+    assert fy.sum() == pytest.approx(case.operating.load, rel=0.01)
+    static = np.asarray(summary["static_roller_forces_N"])
+    analytical = analytical_roller_forces(case)
+    assert np.allclose(summary["analytical_roller_forces_N"], analytical)
+    # no roller outside the analytical load zone carries load, the FE's most loaded
+    # roller is one of the two next to 12 o'clock, and Q_max is of the analytical size
+    # (the coarse mesh's 10 um facets and the flexible outer ring narrow the load zone:
+    # the 10 % / 5 % checks are reported, not met, here)
+    assert np.all(static[analytical == 0] < 0.01 * static.max())
+    assert int(np.argmax(static)) in (0, 1)
+    assert static.max() == pytest.approx(analytical.max(), rel=0.6)
+    checks = summary["checks"]
+    rel = (
+        np.abs(static - analytical)[analytical > 0.05 * analytical.max()]
+        / analytical[analytical > 0.05 * analytical.max()]
+    )
+    assert checks["static_roller_forces"]["value"] == pytest.approx(rel.max())
+    assert checks["static_roller_forces"]["passed"] == (rel.max() <= 0.10)
+
+
+def test_cage_and_roller_speeds_follow_kinematics(coarse_run):
+    case, _, summary, hist = coarse_run
+    rates = rolling_rates(case)
+    checks = summary["checks"]
+    assert checks["cage_speed"]["passed"] and checks["cage_speed"]["value"] < 0.02
+    assert checks["roller_spin"]["passed"] and checks["roller_spin"]["value"] < 0.02
+    # roller 0 rolls (is not dragged): its spin stays near -omega_c R_p / r all along
+    spin = hist["roller0_spin_rad_s"].to_numpy()
+    assert np.median(spin) == pytest.approx(rates.roller, rel=0.02)
+
+
+def test_energy_balance(coarse_run):
+    _, _, summary, hist = coarse_run
+    assert summary["energy_balance_error"] < 0.02
+    err = hist["energy_balance_error"].to_numpy()
+    assert np.max(np.abs(err)) == pytest.approx(summary["energy_balance_error"])
+    # the shaft keeps the bearing turning: positive external work, stored energy bounded
+    assert hist["energy_external_work"].iloc[-1] > 0
+
+
+def test_entry_is_gradual_and_exit_is_a_burst(coarse_run):
+    """Issue 6: entering the spall the roller's force falls with no impulse; leaving it,
+    the force returns as several short impulses; the acceleration burst at exit is much
+    larger than at entry or at the impact on the floor."""
+    case, _, summary, hist = coarse_run
+    events = summary["events"]
+    assert [e["roller"] for e in events] == [0]
+    ev = events[0]
+    t = hist["time_s"].to_numpy()
+    fn = hist["roller0_outer_fn"].to_numpy()
+    f0 = ev["force_before_N"]
+    te, tx = ev["entry_time_s"], ev["exit_time_s"]
+    assert 0 < te < tx < t[-1]
+    # the de-stressing is spread over several samples, not a step: from 90 % down to
+    # 10 % of F0 over at least 50 us (the patch rolls over the edge), and nothing at
+    # entry rises above the rattling of the facets before it
+    k = np.searchsorted(t, te)
+    above = np.flatnonzero(fn[:k] > 0.9 * f0)
+    below = k + np.flatnonzero(fn[k:] < 0.1 * f0)
+    assert t[below[0]] - t[above[-1]] >= 5e-5
+    assert ev["entry_force_peak_ratio"] < 1.6
+    # inside the spall the roller is (nearly) unloaded
+    inside = (t > te + 1e-4) & (t < ev["floor_window_s"][1])
+    assert np.median(fn[inside]) < 0.1 * f0
+    # leaving it: several separate impulses, well above the static force
+    assert ev["exit_impulses"] >= 3
+    assert ev["exit_force_peak_ratio"] > 1.8
+    assert ev["exit_force_peak_ratio"] > 1.2 * ev["entry_force_peak_ratio"]
+    # the acceleration burst at exit dominates the entry and the floor impact
+    assert ev["exit_accel_peak"] > 2.0 * ev["entry_accel_peak"]
+    assert ev["exit_accel_peak"] > 2.0 * ev["floor_accel_peak"]
+    assert summary["checks"]["exit_burst"]["passed"]
+    # entry and exit are where the geometry puts them: the contact point reaches the
+    # entry edge before te, and the exit edge after tx minus the roller's reach
+    spall = case.defect
+    a0 = case.run.first_roller_angle
+    edge = spall.angle - 0.5 * spall.length / case.bearing.outer_raceway_radius
+    t_edge = (edge - a0) / rolling_rates(case).cage
+    assert t_edge < te < t_edge + 2e-4
+    assert math.isfinite(tx)
+
+
+def test_resume_continues_like_the_uninterrupted_run(coarse_run, tmp_path):
+    from taichi_bearing.simulate import run_case
+
+    case, out, summary, hist = coarse_run
+    copy = tmp_path / "resumed"
+    shutil.copytree(out, copy)
+    ckpts = sorted((copy / "checkpoints").glob("checkpoint_*.npz"))
+    assert ckpts, "the run must leave checkpoints"
+    resumed = run_case(case, copy, resume=True, threads=THREADS, quiet=True, post=False)
+    again = read_histories(copy)
+    assert len(again) == len(hist)
+    assert np.allclose(again["time_s"], hist["time_s"])
+    # the rows after the checkpoint were computed again and agree
+    for col in ("roller0_outer_fn", "adapter_top_ay", "energy_kinetic", "cage_angle_rad"):
+        a, b = again[col].to_numpy(), hist[col].to_numpy()
+        scale = np.max(np.abs(b)) + 1e-30
+        assert np.max(np.abs(a - b)) / scale < 1e-6, col
+    assert resumed["restress_times_s"] == pytest.approx(summary["restress_times_s"])
