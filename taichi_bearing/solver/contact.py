@@ -5,8 +5,10 @@ Each step, for every node of every surface that takes part in a pass (a "query")
 
 1. candidate segments: the segments binned in the node's cell of a uniform search grid
    (segments of the surfaces this node's surface is paired with, each pass of a pair);
-2. the penetrated segment closest to the node: projection ``xi`` in [0, 1] (a small
-   tolerance), gap ``g = (x - a) . n < 0`` no deeper than the capture depth;
+2. the candidate segment closest to the node (true distance to the segment, so the line
+   of a segment beyond a convex vertex never wins; ties to the lower index); contact if
+   the node is behind it, gap ``g = (x - a) . n < 0``, no deeper than the capture depth
+   (a node in the wedge outside a convex vertex is caught by the other pass);
 3. normal force ``fn = max(0, k (-g) - c v_n)``, ``c = 2 zeta sqrt(k m_eff)``;
 4. friction: elastic stick ``ft_trial = ft_old - k dt v_t`` (tangential spring of the
    normal penalty stiffness), return-mapped onto ``|ft| <= mu fn`` with
@@ -14,16 +16,19 @@ Each step, for every node of every surface that takes part in a pass (a "query")
    node stays on the same segment or moves to a neighbouring segment (sharing a node),
    and reset to zero when the contact opens or jumps elsewhere;
 5. the force ``fn n + ft t`` on the node, its reaction on the segment's two nodes split
-   by ``xi``; the pair resultant (force BY the slave body ON the master body) summed.
+   by the projection ``xi`` (clamped to [0, 1]); the pair resultant (force BY the slave
+   body ON the master body) summed.
 
 Velocities are ``model.v`` = v^{n-1/2}, positions ``model.x`` = x^n (what the model has
 when the contributors are called).
 
 Search: a uniform square grid over the surfaces' box (see
-:func:`~taichi_bearing.solver.contact_setup.grid_spec`), rebuilt when some surface node
-has moved more than half the motion margin since the last build; each node then reads
-one cell. No shape assumption (circles, flats, spall walls alike); the cost is linear in
-the number of surface nodes as long as the bodies stay in the box the grid was sized for
+:func:`~taichi_bearing.solver.contact_setup.grid_spec`), each segment binned in the cells
+its box grown by capture depth + margin overlaps, rebuilt when some surface node has
+moved a quarter of the margin since the last build (checked on a schedule from the
+fastest surface node's speed, not every step); each node then reads one cell. No shape
+assumption (circles, flats, spall walls alike); the cost is linear in the number of
+surface nodes as long as the bodies stay in the box the grid was sized for
 (outside it, points fall into the border cells: still correct, slower).
 """
 
