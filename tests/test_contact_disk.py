@@ -226,3 +226,38 @@ def test_resting_disk_resultants_obey_newton_and_both_passes_agree():
     one, other = results[(False, True)], results[(True, True)]
     assert -other[1] == pytest.approx(one[1], rel=1e-3)
     assert other[2] == pytest.approx(one[2], rel=1e-3)
+
+
+def test_bouncing_disk_keeps_the_energy_balance():
+    """A disk thrown onto the block: kinetic + strain + stored penalty energy + what the
+    contact dissipated stays equal to the initial kinetic energy (elastic impact, and an
+    impact with contact damping)."""
+    for zeta in (0.0, 0.5):
+        disk = disk_mesh(R, 48)
+        disk.nodes = disk.nodes + np.array([0.0005, R + 1e-6])
+        block = rectangle_mesh(0.06, 0.01, 60, 10, origin=(-0.03, -0.01))
+        mesh = merge_meshes({"disk": disk, "block": block})
+        ids = np.unique(mesh.elements[mesh.element_part == mesh.part_id("disk")])
+        model = Model(mesh, STEEL, constraints=[FixedNodes(mesh.node_sets["block.bottom"])])
+        params = ContactParameters(damping_ratio=zeta)
+        contact = PenaltyContact(model, [ContactPair("c", "disk.outer", "block.top")], params)
+        model.contributors.append(contact)
+        v = np.zeros((model.n_nodes, 2))
+        v[ids, 1] = -1.0
+        model.set_state(v=v)
+        model.restart_accounting()
+        ke0 = 0.5 * model.mass_np[ids].sum()
+        worst, touched = 0.0, False
+        for _ in range(30):
+            model.advance(50, record_last=True)
+            e, c = model.energies(), contact.energies()
+            total = e["kinetic"] + e["internal"] + e["hourglass"] + c["elastic"] + c["damping"]
+            worst = max(worst, abs(total / ke0 - 1))
+            touched |= c["elastic"] > 0
+        print(
+            f"zeta {zeta}: worst energy balance error {worst:.2e}, damped {c['damping'] / ke0:.3f}"
+        )
+        assert touched
+        assert worst < 0.02
+        if zeta > 0:
+            assert c["damping"] > 0.01 * ke0
