@@ -32,6 +32,7 @@ from __future__ import annotations
 
 import difflib
 import math
+import re
 import warnings
 from collections.abc import Iterable, Mapping
 from dataclasses import dataclass, fields
@@ -312,6 +313,7 @@ UNIT_FACTORS: dict[str, float] = {
 }
 
 _REQUIRED = object()
+_NUMBER = re.compile(r"[-+]?(\d+\.?\d*|\.\d+)[eE][-+]?\d+")
 
 
 @dataclass(frozen=True)
@@ -674,6 +676,9 @@ def _type_name(value: Any) -> str:
 def _convert(path: str, value: Any, k: Key, src) -> Any:
     expected = _kind_text(k)
     if k.kind is float:
+        if isinstance(value, str) and _NUMBER.fullmatch(value.strip()):
+            # YAML 1.1 reads exponents without a dot (1e-5) as strings
+            value = float(value)
         if isinstance(value, bool) or not isinstance(value, (int, float)):
             raise CaseError(path, f"expected {expected}, got {_type_name(value)}", src)
         value = float(value)

@@ -74,6 +74,17 @@ def test_default_case_in_si(default_case_path):
     assert case.output.dir is None and case.out_dir == Path("runs/line_spall")
 
 
+def test_exponent_without_a_dot_is_a_number(tmp_path, raw):
+    # YAML 1.1 reads 1e-4 as a string; the case takes it as the number it means
+    raw["preload"]["ke_ratio_tol"] = "1e-4"
+    assert load_case(write(tmp_path, raw)).preload.ke_ratio_tol == 1e-4
+    case = load_case(write(tmp_path, raw), ["preload.ke_ratio_tol=2e-6"])
+    assert case.preload.ke_ratio_tol == 2e-6
+    raw["preload"]["ke_ratio_tol"] = "1e-4x"
+    with pytest.raises(CaseError, match="preload.ke_ratio_tol"):
+        load_case(write(tmp_path, raw))
+
+
 def test_damping_element_cap_defaults_and_is_validated(tmp_path, raw):
     raw = dict(raw, damping={k: v for k, v in raw["damping"].items() if k != "max_element_ratio"})
     assert load_case(write(tmp_path, raw)).damping.max_element_ratio == 0.1  # default
