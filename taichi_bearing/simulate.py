@@ -143,10 +143,21 @@ def preload(bm: BearingModel) -> dict:
     }
 
 
+# Keys that do not change the state a checkpoint holds: a run may be resumed with other
+# values (e.g. a longer duration extends a finished run from its last checkpoint).
+_RESUMABLE_RUN_KEYS = (
+    "arch",
+    "threads",
+    "duration_ms",
+    "frame_interval_ms",
+    "checkpoint_interval_ms",
+)
+
+
 def _fingerprint(case: Case, mesh: Mesh) -> str:
     d = case_to_dict(case)
     d.pop("output", None)
-    d["run"] = {k: v for k, v in d["run"].items() if k not in ("arch", "threads")}
+    d["run"] = {k: v for k, v in d["run"].items() if k not in _RESUMABLE_RUN_KEYS}
     return fingerprint(d, mesh.nodes, mesh.elements)
 
 
