@@ -43,6 +43,8 @@ ENERGY_LIMIT = 0.02
 NOISE_LIMIT = 0.05
 DEFECT_SIZE_LIMIT = 0.5
 EXIT_BURST_LIMIT = 2.0
+RESTRESS_MEAN_S = 1e-4  # averaging time of the re-stressing force, s
+PASSAGE_WINDOW_M = 1.5e-3  # contact travel of the entry and exit windows, m
 # A roller counts as loaded when the analytical model gives it this share of Q_max.
 LOADED_SHARE = 0.05
 
@@ -180,9 +182,9 @@ def energy_balance_check(hist: pd.DataFrame) -> tuple[dict, float]:
 
 class SpallEvent(dict):
     """``roller``; ``entry_time_s`` (de-stressing: the force falls through half its
-    value before the spall), ``floor_window_s`` (start, end of the traverse) and
-    ``exit_time_s`` (re-stressing: the first return above half that value once the
-    roller reaches the exit edge); ``force_before_N``."""
+    value before the spall), ``floor_window_s`` (start, end of the traverse),
+    ``first_impact_time_s`` (first touch of the exit edge) and ``exit_time_s``
+    (re-stressing: the mean force regains half its value); ``force_before_N``."""
 
 
 def _spall_geometry(info: Mapping) -> dict | None:
@@ -202,10 +204,11 @@ def detect_spall_events(
     ``rel`` (0 at the entry edge, ``span`` at the exit edge). ``F0``: the median normal
     force on the outer raceway while the contact is more than 1 mm before the edge.
     Entry: the first time after ``rel = -1 mm`` that the force is below ``F0 / 2``.
-    Exit: the first time the force exceeds ``F0 / 2`` once the roller is within the
-    distance at which it meets the exit edge, ``sqrt(2 r d) + 0.5 mm`` before it
-    (``d``: the spall depth, or the roller's dip into the notch if smaller), so that an
-    impact on the floor earlier in the traverse is not taken for the exit.
+    Once the roller is within the distance at which it meets the exit edge,
+    ``sqrt(2 r d) + 0.5 mm`` before it (``d``: the spall depth, or the roller's dip into
+    the notch if smaller; an impact on the floor earlier in the traverse is not taken for
+    the exit): first impact, the first force above ``F0 / 10``; exit (re-stressing), the
+    first time the force averaged over the last 0.1 ms exceeds ``F0 / 2``.
     """
     spall = _spall_geometry(info)
     if spall is None:
@@ -241,16 +244,25 @@ def detect_spall_events(
         if low.size == 0:
             continue
         i_entry = int(low[0])
-        up = np.flatnonzero((np.arange(len(t)) > i_entry) & (rel >= span - meet) & (fn > 0.5 * f0))
-        if up.size == 0:
+        meets = np.flatnonzero((np.arange(len(t)) > i_entry) & (rel >= span - meet))
+        if meets.size == 0:
             continue
-        i_exit = int(up[0])
-        i_meet = int(np.flatnonzero(rel >= span - meet)[0])
+        i_meet = int(meets[0])
+        # the re-stressing is a burst of impulses: its time is when the force averaged
+        # over the last RESTRESS_MEAN_S regains half of F0 (a single impulse crossing
+        # that level jitters with the phase of the roller's bounce)
+        n_mean = max(1, round(RESTRESS_MEAN_S / max(float(np.median(np.diff(t))), 1e-12)))
+        mean = np.convolve(fn, np.ones(n_mean) / n_mean)[: len(fn)]
+        up = i_meet + np.flatnonzero(mean[i_meet:] > 0.5 * f0)
+        hit = i_meet + np.flatnonzero(fn[i_meet:] > 0.1 * f0)
+        if up.size == 0 or hit.size == 0:
+            continue
         events.append(
             SpallEvent(
                 roller=j,
                 entry_time_s=float(t[i_entry]),
-                exit_time_s=float(t[i_exit]),
+                first_impact_time_s=float(t[hit[0]]),
+                exit_time_s=float(t[up[0]]),
                 floor_window_s=(float(t[min(i_entry + 1, i_meet)]), float(t[i_meet])),
                 force_before_N=f0,
             )
@@ -265,9 +277,10 @@ def passage_signature(
     """Force and acceleration around one passage: what issue 6 says the physics shows.
 
     Windows: entry ``[entry - window, entry + window / 2]``; traverse (with any floor
-    impact) from half a window after entry to the exit edge; exit ``[exit, exit +
-    window]``. Returns the largest roller force in the entry and exit windows over
-    ``F0`` (no impulse at entry: about 1 or less), the number of separate impulses at
+    impact) from half a window after entry to the first impact on the exit edge; exit
+    ``[first impact, first impact + window]``. Returns the largest roller force in the
+    entry and exit windows over ``F0`` (no impulse at entry: about 1 or less), the number
+    of separate impulses at
     exit (rises above ``F0 / 2`` after falls below ``F0 / 4``), and the largest |a - median|
     of ``signal`` in each window.
     """
@@ -277,7 +290,8 @@ def passage_signature(
     acc = hist[signal].to_numpy()
     acc = np.abs(acc - np.median(acc))
     f0 = float(event["force_before_N"])
-    te, tx = float(event["entry_time_s"]), float(event["exit_time_s"])
+    te = float(event["entry_time_s"])
+    tx = float(event.get("first_impact_time_s", event["exit_time_s"]))
     entry = (t >= te - window_s) & (t <= te + 0.5 * window_s)
     floor = (t > te + 0.5 * window_s) & (t < tx)
     leave = (t >= tx) & (t <= tx + window_s)
@@ -452,7 +466,9 @@ def run_checks(case: Case, info: Mapping, hist: pd.DataFrame, preload: Mapping) 
     fs = case.run.sample_rate
     sensor = main_sensor(case, hist)
     acc = hist[f"{sensor}_ay"].to_numpy()
-    signatures = [passage_signature(hist, e, f"{sensor}_ay") for e in events]
+    # windows of 1.5 mm of contact travel (the re-stressing takes longer at low speed)
+    window = PASSAGE_WINDOW_M / (rolling_rates(case).cage * case.bearing.outer_raceway_radius)
+    signatures = [passage_signature(hist, e, f"{sensor}_ay", window) for e in events]
     for e, sig in zip(events, signatures, strict=True):
         e.update(sig)
     checks["exit_burst"] = exit_burst_check(signatures)

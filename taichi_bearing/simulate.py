@@ -282,7 +282,7 @@ def run_case(
             "n_steps": int(model.step_count),
             "wall_time_s": times["transient"],
             "element_steps_per_s": (
-                mesh.n_elements * (result.steps if result else model.step_count)
+                mesh.n_elements * _steps_this_call(result, model, case, resume)
                 / max(times["transient"], 1e-9)
             ),
             "mesh_statistics": stats,
@@ -315,6 +315,14 @@ def run_case(
     failed = [k for k, c in summary["checks"].items() if c["passed"] is False]
     say(f"checks: {len(summary['checks']) - len(failed)} passed, failed: {failed or 'none'}")
     return summary
+
+
+def _steps_this_call(result, model, case: Case, resume: bool) -> int:
+    """Steps taken by this call (a resumed run: only those after the checkpoint)."""
+    if result is None:
+        return int(model.step_count)
+    per_sample = round(1.0 / (case.run.sample_rate * result.dt))
+    return len(result.rows) * per_sample + (0 if resume else 1)
 
 
 def _write_partial(out: Path, summary: dict) -> None:
