@@ -89,7 +89,10 @@ def check_frequency(f: float, fs: float, name: str = "f") -> float:
 
 
 def check_band(f_lo: float, f_hi: float, fs: float, name: str = "band") -> tuple[float, float]:
-    """Return ``(f_lo, f_hi)`` as floats after checking 0 < f_lo < f_hi <= fs/2.
+    """Return ``(f_lo, f_hi)`` as floats after checking 0 <= f_lo < f_hi <= fs/2.
+
+    An edge at 0 or at fs/2 is allowed: a band from 0 is a low-pass, a band to fs/2 a
+    high-pass, and (0, fs/2) the whole spectrum (the kurtogram's level-0 band).
 
     Raises
     ------
@@ -107,9 +110,9 @@ def check_band(f_lo: float, f_hi: float, fs: float, name: str = "band") -> tuple
             raise ValueError(f"{name} {label} must be finite, got {value!r}")
         edges.append(float(value))
     lo, hi = edges
-    if not 0.0 < lo < hi <= nyquist:
+    if not 0.0 <= lo < hi <= nyquist:
         raise ValueError(
-            f"{name} ({lo:g}, {hi:g}) Hz must satisfy 0 < low < high <= fs/2 = {nyquist:g} Hz"
+            f"{name} ({lo:g}, {hi:g}) Hz must satisfy 0 <= low < high <= fs/2 = {nyquist:g} Hz"
         )
     return lo, hi
 

@@ -72,8 +72,9 @@ def bandpass_filter(x, fs: float, f_lo: float, f_hi: float, order: int = 4) -> n
     fs : float
         Sampling rate in Hz.
     f_lo, f_hi : float
-        Band edges in Hz, 0 < f_lo < f_hi <= fs/2. With ``f_hi == fs/2`` the filter is a
-        high-pass at ``f_lo``.
+        Band edges in Hz, 0 <= f_lo < f_hi <= fs/2. With ``f_hi == fs/2`` the filter is a
+        high-pass at ``f_lo``, with ``f_lo == 0`` a low-pass at ``f_hi``, and the whole
+        range (0, fs/2) returns the signal unfiltered.
     order : int
         Butterworth order of one pass (the forward-backward run squares the magnitude).
 
@@ -89,7 +90,12 @@ def bandpass_filter(x, fs: float, f_lo: float, f_hi: float, order: int = 4) -> n
     """
     f_lo, f_hi = check_band(f_lo, f_hi, fs)
     order = check_positive_int(order, "order")
-    if f_hi >= fs / 2.0:
+    to_nyquist = f_hi >= fs / 2.0
+    if f_lo <= 0.0 and to_nyquist:
+        return check_signal(x, fs).copy()
+    if f_lo <= 0.0:
+        return lowpass_filter(x, fs, f_hi, order)
+    if to_nyquist:
         sos = signal.butter(order, f_lo, btype="highpass", output="sos", fs=fs)
     else:
         sos = signal.butter(order, [f_lo, f_hi], btype="bandpass", output="sos", fs=fs)

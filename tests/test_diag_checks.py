@@ -46,8 +46,13 @@ def test_check_band_accepts_up_to_nyquist():
     assert check_band(10, 500, 1000.0) == (10.0, 500.0)
 
 
+def test_check_band_accepts_edges_at_zero_and_nyquist():
+    assert check_band(0.0, 100.0, 1000.0) == (0.0, 100.0)
+    assert check_band(0, 500, 1000.0) == (0.0, 500.0)
+
+
 @pytest.mark.parametrize(
-    ("lo", "hi"), [(0.0, 100.0), (-1.0, 100.0), (200.0, 100.0), (100.0, 100.0), (10.0, 600.0)]
+    ("lo", "hi"), [(-1.0, 100.0), (200.0, 100.0), (100.0, 100.0), (10.0, 600.0)]
 )
 def test_check_band_rejects_bands_outside_0_to_nyquist(lo, hi):
     with pytest.raises(ValueError, match="band"):

@@ -5,6 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
+from diagnostics.envelope import envelope_spectrum
 from diagnostics.filters import bandpass_filter, lowpass_filter, notch_filter
 
 FS = 10_000.0
@@ -96,3 +97,25 @@ def test_bandpass_up_to_nyquist_is_a_highpass():
 def test_filters_reject_bad_arguments(call):
     with pytest.raises(ValueError):
         call(_tone(100.0))
+
+
+def test_bandpass_edges_at_zero_and_nyquist_mean_lowpass_and_all_pass():
+    rng = np.random.default_rng(3)
+    fs = 8000.0
+    x = rng.standard_normal(4000)
+    # A band from 0 is the low-pass at its upper edge; the whole range leaves x unchanged.
+    np.testing.assert_array_equal(
+        bandpass_filter(x, fs, 0.0, 1000.0), lowpass_filter(x, fs, 1000.0)
+    )
+    np.testing.assert_array_equal(bandpass_filter(x, fs, 0.0, fs / 2), x)
+
+
+def test_envelope_spectrum_accepts_the_kurtogram_level_0_band():
+    # The fast kurtogram's best band can be level 0, (0, fs/2): the envelope of the whole band.
+    fs = 8000.0
+    t = np.arange(8000) / fs
+    x = (1.0 + 0.5 * np.cos(2 * np.pi * 50.0 * t)) * np.cos(2 * np.pi * 1000.0 * t)
+    f_all, a_all = envelope_spectrum(x, fs, band=(0.0, fs / 2))
+    f_none, a_none = envelope_spectrum(x, fs)
+    np.testing.assert_allclose(a_all, a_none)
+    assert f_all[np.argmax(a_all[1:]) + 1] == pytest.approx(50.0)
