@@ -1,0 +1,258 @@
+"""Sweep outputs: ``sweep_summary.csv``, percentage-increase tables, trend figures and
+``sweep_report.md``, all computed from the per-cell rows (nothing typed in).
+
+Increase tables: for each quantity, ``100 (q / q_ref - 1)`` with ``q_ref`` the same
+quantity at the lowest load (same speed) or at the lowest speed (same load).
+"""
+
+from __future__ import annotations
+
+import math
+import os
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+
+from diagnostics.files import atomic_path
+from taichi_bearing.sweep_metrics import METRICS
+
+__all__ = ["increase_table", "trend_sentence", "write_sweep_outputs"]
+
+# The quantities the study's finding is about, tested for a trend in the report.
+TREND_KEYS = (
+    "env_bpfo",
+    "outer_peak_N",
+    "outer_env_max_N",
+    "inner_peak_N",
+    "inner_env_max_N",
+    "restress_peak_N",
+)
+AXES = {"load_kN": ("load", "kN"), "speed_rpm": ("speed", "rpm")}
+
+
+def _write_text(path: Path, text: str) -> None:
+    with atomic_path(path) as tmp:
+        Path(tmp).write_text(text)
+
+
+def _write_csv(path: Path, df: pd.DataFrame) -> None:
+    with atomic_path(path) as tmp:
+        df.to_csv(tmp, index=False)
+
+
+def increase_table(df: pd.DataFrame, key: str, axis: str) -> pd.DataFrame:
+    """Percentage increase of ``key`` relative to the lowest value of ``axis``.
+
+    Parameters
+    ----------
+    df : DataFrame
+        Rows of ``sweep_summary.csv``.
+    key : str
+        Quantity column.
+    axis : str
+        ``"load_kN"`` or ``"speed_rpm"``: the reference is the lowest value of this axis at
+        the same value of the other one.
+
+    Returns
+    -------
+    DataFrame
+        Index: the other axis; columns: the values of ``axis``; cells: percent (NaN where
+        the reference or the value is missing or the reference is zero).
+    """
+    other = "speed_rpm" if axis == "load_kN" else "load_kN"
+    grid = df.pivot_table(index=other, columns=axis, values=key, aggfunc="first", dropna=False)
+    grid = grid.reindex(sorted(grid.columns), axis=1).sort_index()
+    ref = grid.iloc[:, 0].replace(0.0, np.nan)
+    return grid.div(ref, axis=0).sub(1.0).mul(100.0)
+
+
+def _increase_long(df: pd.DataFrame) -> pd.DataFrame:
+    """All increase tables in one long table: quantity, reference axis, load, speed, %."""
+    rows = []
+    for key in TREND_KEYS:
+        for axis in AXES:
+            tab = increase_table(df, key, axis)
+            other = "speed_rpm" if axis == "load_kN" else "load_kN"
+            for o, row in tab.iterrows():
+                for a, pct in row.items():
+                    rows.append({"quantity": key, "relative_to_lowest": AXES[axis][0],
+                                 axis: a, other: o, "increase_pct": pct})  # fmt: skip
+    return pd.DataFrame(rows)
+
+
+def trend_sentence(df: pd.DataFrame, key: str, axis: str) -> tuple[str, bool | None]:
+    """One sentence saying whether ``key`` grows with ``axis``, with the numbers.
+
+    Returns the sentence and True (grows at every value of the other axis), False (does
+    not) or None (fewer than two finite values on every line: no trend to judge).
+    """
+    label, unit = METRICS[key]
+    name, aunit = AXES[axis]
+    tab = increase_table(df, key, axis)
+    other = "speed_rpm" if axis == "load_kN" else "load_kN"
+    oname, ounit = AXES[other]
+    grid = df.pivot_table(index=other, columns=axis, values=key, aggfunc="first", dropna=False)
+    grid = grid.reindex(sorted(grid.columns), axis=1).sort_index()
+    parts, verdicts = [], []
+    for o in grid.index:
+        vals = grid.loc[o].to_numpy(dtype=float)
+        ok = np.isfinite(vals)
+        if ok.sum() < 2:
+            continue
+        v = vals[ok]
+        rising = bool(np.all(np.diff(v) > 0))
+        shape = "rising" if rising else "falling" if np.all(np.diff(v) < 0) else "not monotonic"
+        verdicts.append(rising)
+        cols = [c for c, good in zip(grid.columns, ok, strict=True) if good]
+        pct = tab.loc[o, cols[-1]]
+        parts.append(
+            f"at {o:g} {ounit}: {v[0]:.4g} -> {v[-1]:.4g} {unit} from {cols[0]:g} to "
+            f"{cols[-1]:g} {aunit} ({pct:+.1f} %, {shape} over {ok.sum()} "
+            f"{name}s)"
+        )
+    if not verdicts:
+        return f"{label}: not enough finished cells to judge a trend with {name}.", None
+    if all(verdicts):
+        head = f"{label} grows with {name} at every {oname}"
+    elif any(verdicts):
+        head = f"{label} grows with {name} at {sum(verdicts)} of {len(verdicts)} {oname}s"
+    else:
+        head = f"{label} does not grow with {name} at any {oname}"
+    return head + ": " + "; ".join(parts) + ".", all(verdicts)
+
+
+def _plot_vs(df: pd.DataFrame, key: str, axis: str, ax) -> None:
+    other = "speed_rpm" if axis == "load_kN" else "load_kN"
+    for o, g in df.sort_values(axis).groupby(other):
+        ax.plot(g[axis], g[key], "o-", label=f"{o:g} {AXES[other][1]}")
+    ax.set_xlabel(f"{AXES[axis][0]} ({AXES[axis][1]})")
+    ax.set_ylabel(f"{key} ({METRICS[key][1]})")
+    ax.grid(True, alpha=0.3)
+    ax.legend(fontsize=7)
+
+
+def make_figures(df: pd.DataFrame, fig_dir: Path) -> list[Path]:
+    """Trend figures (each quantity against load and against speed) and the increase
+    tables as a figure; returns the files written."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig_dir.mkdir(parents=True, exist_ok=True)
+    written = []
+    groups = {
+        "envelope_bpfo": ("env_bpfo",),
+        "outer_forces": ("outer_peak_N", "outer_env_max_N", "restress_peak_N"),
+        "inner_forces": ("inner_peak_N", "inner_env_max_N"),
+    }
+    for stem, keys in groups.items():
+        fig, axes = plt.subplots(len(keys), 2, figsize=(9, 3.0 * len(keys)), squeeze=False)
+        for i, key in enumerate(keys):
+            for k, axis in enumerate(AXES):
+                _plot_vs(df, key, axis, axes[i][k])
+                axes[i][k].set_title(f"{METRICS[key][0]}", fontsize=8)
+        fig.tight_layout()
+        written.append(_save(fig, fig_dir / f"sweep_{stem}.png", plt))
+    # increase tables, one panel per reference axis
+    fig, axes = plt.subplots(1, 2, figsize=(12, 0.5 + 0.35 * len(df) * len(TREND_KEYS) / 2))
+    for ax, axis in zip(axes, AXES, strict=True):
+        lines = _increase_long(df)
+        lines = lines[lines["relative_to_lowest"] == AXES[axis][0]]
+        cells = [[r.quantity, f"{r.load_kN:g}", f"{r.speed_rpm:g}", _pct(r.increase_pct)]
+                 for r in lines.itertuples()]  # fmt: skip
+        ax.axis("off")
+        ax.set_title(f"increase relative to the lowest {AXES[axis][0]} (%)", fontsize=9)
+        if cells:
+            tab = ax.table(cellText=cells, colLabels=["quantity", "load kN", "speed rpm", "%"],
+                           loc="upper center")  # fmt: skip
+            tab.auto_set_font_size(False)
+            tab.set_fontsize(7)
+    fig.tight_layout()
+    written.append(_save(fig, fig_dir / "sweep_increase_tables.png", plt))
+    return written
+
+
+def _save(fig, path: Path, plt) -> Path:
+    with atomic_path(path) as tmp:
+        fig.savefig(tmp, dpi=110, format="png")
+    plt.close(fig)
+    return path
+
+
+def _pct(v: float) -> str:
+    return "n/a" if not math.isfinite(v) else f"{v:+.1f}"
+
+
+def _markdown(df: pd.DataFrame, digits: int = 4) -> str:
+    cols = list(df.columns)
+    out = ["| " + " | ".join(str(c) for c in cols) + " |", "|" + "---|" * len(cols)]
+    for row in df.itertuples(index=False):
+        cells = []
+        for v in row:
+            if isinstance(v, float):
+                cells.append("n/a" if not math.isfinite(v) else f"{v:.{digits}g}")
+            else:
+                cells.append(str(v))
+        out.append("| " + " | ".join(cells) + " |")
+    return "\n".join(out)
+
+
+def _report(df: pd.DataFrame, figures: list[Path], out: Path) -> str:
+    lines = ["# Load x speed sweep", ""]
+    n_fin = int((df["status"] == "finished").sum())
+    lines += [f"{len(df)} cells, {n_fin} finished, {len(df) - n_fin} failed.", ""]
+    failed = df[df["status"] != "finished"]
+    for r in failed.itertuples():
+        lines.append(f"- FAILED {r.run_dir}: {r.error}")
+    if len(failed):
+        lines.append("")
+    periods = df["periods"].dropna()
+    if len(periods):
+        lines += [
+            f"Records hold {periods.min():.3g} to {periods.max():.3g} BPFO periods; "
+            + ("below one period the BPFO level is a zero-padded reading, not a resolved "
+               "spectral line." if periods.min() < 1 else "the BPFO line is resolved."),
+            "",
+        ]  # fmt: skip
+    lines += ["## Does the model agree with the study?", ""]
+    lines += ["The study found that the re-stressing impulses and contact forces grow with "
+              "load and with speed. From these runs:", ""]  # fmt: skip
+    for key in TREND_KEYS:
+        for axis in AXES:
+            sentence, _ = trend_sentence(df, key, axis)
+            lines.append(f"- {sentence}")
+    lines += ["", "## Per-cell values", ""]
+    show = ["load_kN", "speed_rpm", "status", "n_passages", *TREND_KEYS, "static_outer_N"]
+    lines += [_markdown(df[show]), ""]
+    for axis in AXES:
+        lines += [f"## Increase relative to the lowest {AXES[axis][0]} (%)", ""]
+        for key in TREND_KEYS:
+            tab = increase_table(df, key, axis)
+            other = "speed_rpm" if axis == "load_kN" else "load_kN"
+            tab.index = pd.Index([f"{v:g}" for v in tab.index], name=f"{other} \\ {axis}")
+            tab.columns = [f"{c:g}" for c in tab.columns]
+            tab = tab.reset_index()
+            lines += [f"{METRICS[key][0]} (`{key}`), rows: the other axis", "",
+                      _markdown(tab, 3), ""]  # fmt: skip
+    lines += ["## Figures", ""]
+    lines += [f"![{p.stem}]({os.path.relpath(p, out)})" for p in figures]
+    return "\n".join(lines) + "\n"
+
+
+def write_sweep_outputs(rows: list[dict], out_dir: str | os.PathLike) -> dict[str, Path]:
+    """Write ``sweep_summary.csv``, ``sweep_increase.csv``, figures and ``sweep_report.md``.
+
+    Returns the paths written, by name.
+    """
+    out = Path(out_dir)
+    out.mkdir(parents=True, exist_ok=True)
+    df = pd.DataFrame(rows).sort_values(["load_kN", "speed_rpm"]).reset_index(drop=True)
+    paths = {"summary": out / "sweep_summary.csv", "increase": out / "sweep_increase.csv"}
+    _write_csv(paths["summary"], df)
+    _write_csv(paths["increase"], _increase_long(df))
+    figures = make_figures(df, out / "figures")
+    paths["report"] = out / "sweep_report.md"
+    _write_text(paths["report"], _report(df, figures, out))
+    return paths

@@ -1,0 +1,386 @@
+"""A load x speed matrix of bearing runs, on a local process pool or a Dask cluster.
+
+Each cell is the case with ``operating.load_kN`` and ``operating.speed_rpm`` overridden,
+run into its own folder ``<sweep>/load_<L>kN_speed_<S>rpm/`` (``notes/rundir.md``). The
+run folders are the record: a cell whose ``summary.json`` says ``status: finished`` is not
+run again. :func:`run_cell` is the one task function, sent unchanged to either engine; it
+runs the case in a child Python process (``python -m taichi_bearing run``), so Taichi's
+global state and thread pool belong to that case alone and a crash of one case cannot take
+a pool or Dask worker down with it.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import os
+import subprocess
+import sys
+from collections.abc import Callable, Iterable, Sequence
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from taichi_bearing.case import load_case
+from taichi_bearing.errors import InputError
+
+__all__ = [
+    "SweepCell",
+    "cell_dir_name",
+    "is_finished",
+    "local_threads",
+    "make_cells",
+    "parse_values",
+    "run_cell",
+    "run_sweep",
+]
+
+SUMMARY = "summary.json"
+
+
+@dataclass(frozen=True)
+class SweepCell:
+    """One case of the matrix: what :func:`run_cell` needs, as plain picklable data.
+
+    Attributes
+    ----------
+    case_path : str
+        Absolute path of the case file (the workers must see the same file system).
+    load_kN, speed_rpm : float
+    out_dir : str
+        Absolute path of the cell's run folder.
+    overrides : tuple of str
+        ``key=value`` overrides, the sweep's own ``--set`` ones first, then load and speed.
+    threads : int or None
+        Taichi CPU threads; ``None``: decided where the task runs (see :func:`run_cell`).
+    post : bool
+        Make the run's figures and report.
+    """
+
+    case_path: str
+    load_kN: float
+    speed_rpm: float
+    out_dir: str
+    overrides: tuple[str, ...] = ()
+    threads: int | None = None
+    post: bool = True
+
+    @property
+    def name(self) -> str:
+        return Path(self.out_dir).name
+
+
+@dataclass
+class CellResult:
+    """What a task reports back: status, error line and wall time of one cell."""
+
+    name: str
+    load_kN: float
+    speed_rpm: float
+    out_dir: str
+    status: str
+    error: str = ""
+    wall_s: float = 0.0
+    ran: bool = False
+    extra: dict = field(default_factory=dict)
+
+
+def parse_values(text: str, option: str) -> list[float]:
+    """``"25,50,80"`` -> ``[25.0, 50.0, 80.0]`` (positive, distinct, kept in order).
+
+    Raises
+    ------
+    InputError
+        Naming ``option`` on an empty list, a non-number, a value <= 0 or a repeat.
+    """
+    parts = [p.strip() for p in str(text).split(",")]
+    if not parts or any(p == "" for p in parts):
+        raise InputError(f"{option}: expected comma-separated numbers, got {text!r}")
+    values = []
+    for p in parts:
+        try:
+            v = float(p)
+        except ValueError:
+            raise InputError(f"{option}: {p!r} is not a number") from None
+        if not (math.isfinite(v) and v > 0):
+            raise InputError(f"{option}: values must be positive, got {p}")
+        if v in values:
+            raise InputError(f"{option}: {p} is given twice")
+        values.append(v)
+    return values
+
+
+def _num_text(v: float) -> str:
+    """25.0 -> "25", 2.5 -> "2p5" (folder-name safe)."""
+    return f"{v:g}".replace(".", "p").replace("+", "")
+
+
+def cell_dir_name(load_kN: float, speed_rpm: float) -> str:
+    """Run folder name of a cell, e.g. ``load_50kN_speed_500rpm``."""
+    return f"load_{_num_text(load_kN)}kN_speed_{_num_text(speed_rpm)}rpm"
+
+
+def _duration_overrides(case, speed_rpm: float) -> list[str]:
+    """Duration and intervals scaled by (case speed / cell speed): every cell covers the
+    same roller travel, so the same spall passages, whatever its speed."""
+    factor = case.operating.shaft_rpm / speed_rpm
+    run = case.run
+    # Case units are ms; the loaded Case holds seconds.
+    return [
+        f"run.duration_ms={run.duration * factor * 1e3!r}",
+        f"run.frame_interval_ms={run.frame_interval * factor * 1e3!r}",
+        f"run.checkpoint_interval_ms={run.checkpoint_interval * factor * 1e3!r}",
+    ]
+
+
+def make_cells(
+    case_path: str | os.PathLike,
+    loads_kN: Sequence[float],
+    speeds_rpm: Sequence[float],
+    out_dir: str | os.PathLike,
+    overrides: Iterable[str] = (),
+    *,
+    scale_duration: bool = True,
+    threads: int | None = None,
+    post: bool = True,
+) -> list[SweepCell]:
+    """The cells of the matrix, each one's case validated here (bad input fails early).
+
+    Parameters
+    ----------
+    case_path : path
+        Case file.
+    loads_kN, speeds_rpm : sequences of float
+        Radial loads and shaft speeds.
+    out_dir : path
+        Sweep folder; cell folders are made inside it.
+    overrides : iterable of str
+        ``--set`` overrides applied to every cell (before load and speed).
+    scale_duration : bool
+        Scale ``run.duration_ms`` (and the frame and checkpoint intervals) by case speed /
+        cell speed, so that every cell covers the same roller travel.
+    threads, post
+        Passed to every cell (see :class:`SweepCell`).
+
+    Raises
+    ------
+    InputError, CaseError
+        On an unreadable case, a bad override or a cell whose case is invalid.
+    """
+    case_path = Path(case_path).resolve()
+    base = tuple(overrides)
+    case = load_case(case_path, base)
+    out = Path(out_dir).resolve()
+    cells = []
+    for speed in speeds_rpm:
+        timing = _duration_overrides(case, speed) if scale_duration else []
+        for load in loads_kN:
+            ov = (*base, *timing, f"operating.load_kN={load!r}", f"operating.speed_rpm={speed!r}")
+            load_case(case_path, ov)  # validates the cell (e.g. intervals vs duration)
+            cells.append(
+                SweepCell(
+                    str(case_path),
+                    float(load),
+                    float(speed),
+                    str(out / cell_dir_name(load, speed)),
+                    ov,
+                    threads,
+                    post,
+                )
+            )
+    return cells
+
+
+def is_finished(run_dir: str | os.PathLike) -> bool:
+    """Whether a run folder holds a ``summary.json`` with ``status: finished``."""
+    path = Path(run_dir) / SUMMARY
+    try:
+        return json.loads(path.read_text()).get("status") == "finished"
+    except (OSError, ValueError, AttributeError):
+        return False
+
+
+def local_threads(workers: int, cores: int | None = None) -> int:
+    """Taichi threads for each of ``workers`` concurrent cases: ``max(1, cores // workers)``."""
+    cores = (os.cpu_count() or 1) if cores is None else cores
+    return max(1, cores // max(1, workers))
+
+
+def _threads_here(cell: SweepCell) -> int:
+    """The cell's threads, or on a Dask worker: its host's cores over its thread slots."""
+    if cell.threads is not None:
+        return cell.threads
+    try:
+        from distributed import get_worker
+
+        slots = get_worker().state.nthreads
+    except (ImportError, ValueError, AttributeError):
+        slots = 1
+    return local_threads(slots)
+
+
+def _last_line(text: str) -> str:
+    lines = [ln.strip() for ln in text.splitlines() if ln.strip()]
+    return lines[-1] if lines else ""
+
+
+def run_cell(cell: SweepCell) -> CellResult:
+    """Run one cell into its folder; never raises (a failure is in the result).
+
+    The case runs as ``python -m taichi_bearing run CASE --out DIR --set ... --threads N
+    --quiet`` in a child process; its last stderr line is the error of a failed run.
+    """
+    import time
+
+    res = CellResult(cell.name, cell.load_kN, cell.speed_rpm, cell.out_dir, "failed")
+    cmd = [sys.executable, "-m", "taichi_bearing", "run", cell.case_path, "--out", cell.out_dir]
+    for ov in cell.overrides:
+        cmd += ["--set", ov]
+    cmd += ["--threads", str(_threads_here(cell)), "--quiet"]
+    if not cell.post:
+        cmd.append("--no-post")
+    t0 = time.perf_counter()
+    try:
+        proc = subprocess.run(cmd, capture_output=True, text=True, check=False)
+    except OSError as exc:
+        res.error = f"could not start the run: {exc}"
+        return res
+    res.wall_s, res.ran = time.perf_counter() - t0, True
+    if proc.returncode == 0 and is_finished(cell.out_dir):
+        res.status = "finished"
+    else:
+        line = _last_line(proc.stderr) or _last_line(proc.stdout)
+        res.error = f"exit status {proc.returncode}: {line}" if line else (
+            f"exit status {proc.returncode}"
+        )  # fmt: skip
+    return res
+
+
+def _skipped(cell: SweepCell) -> CellResult:
+    return CellResult(cell.name, cell.load_kN, cell.speed_rpm, cell.out_dir, "finished")
+
+
+def _dask_threads(client) -> int:
+    """Threads per task on a Dask cluster: on each host, its cores over the thread slots of
+    its workers; the smallest over hosts."""
+    cores = client.run(os.cpu_count)
+    slots: dict[str, int] = {}
+    host_cores: dict[str, int] = {}
+    for addr, info in client.scheduler_info()["workers"].items():
+        host = info.get("host", addr)
+        slots[host] = slots.get(host, 0) + int(info.get("nthreads", 1))
+        host_cores[host] = int(cores.get(addr) or 1)
+    if not slots:
+        return 1
+    return min(max(1, host_cores[h] // slots[h]) for h in slots)
+
+
+def run_sweep(
+    cells: Sequence[SweepCell],
+    *,
+    workers: int | None = None,
+    scheduler: str | object | None = None,
+    progress: bool = True,
+    on_result: Callable[[CellResult], None] | None = None,
+) -> list[CellResult]:
+    """Run the cells not yet finished; return one result per cell, in the cells' order.
+
+    Parameters
+    ----------
+    cells : sequence of SweepCell
+    workers : int, optional
+        Local process pool size (default: the number of cores, at most the cells to run).
+        Ignored with ``scheduler``.
+    scheduler : str or distributed.Client, optional
+        Dask scheduler address (``tcp://host:8786``) or a connected client: the same
+        :func:`run_cell` tasks go to that cluster instead of the local pool.
+    progress : bool
+        A progress bar over cases.
+    on_result : callable, optional
+        Called with each result as it arrives.
+
+    Returns
+    -------
+    list of CellResult
+        ``ran`` is False for cells skipped because their folder already held a finished run.
+    """
+    from tqdm import tqdm
+
+    results: dict[str, CellResult] = {}
+    todo = []
+    for c in cells:
+        if is_finished(c.out_dir):
+            results[c.out_dir] = _skipped(c)
+        else:
+            todo.append(c)
+    bar = tqdm(total=len(cells), initial=len(cells) - len(todo), unit="case",
+               disable=not progress, desc="sweep")  # fmt: skip
+
+    def done(r: CellResult) -> None:
+        results[r.out_dir] = r
+        bar.update(1)
+        bar.set_postfix_str(f"{r.name}: {r.status}")
+        if on_result is not None:
+            on_result(r)
+
+    if todo:
+        if scheduler is not None:
+            _run_dask(todo, scheduler, done)
+        else:
+            _run_pool(todo, workers, done)
+    bar.close()
+    return [results[c.out_dir] for c in cells]
+
+
+def _run_pool(cells: list[SweepCell], workers: int | None, done) -> None:
+    import multiprocessing as mp
+    from concurrent.futures import ProcessPoolExecutor, as_completed
+
+    n = max(1, min(workers or os.cpu_count() or 1, len(cells)))
+    threads = local_threads(n)
+    cells = [c if c.threads is not None else _with_threads(c, threads) for c in cells]
+    with ProcessPoolExecutor(max_workers=n, mp_context=mp.get_context("spawn")) as pool:
+        futures = {pool.submit(run_cell, c): c for c in cells}
+        for fut in as_completed(futures):
+            done(_outcome(fut, futures[fut]))
+
+
+def _run_dask(cells: list[SweepCell], scheduler, done) -> None:
+    try:
+        from distributed import Client, as_completed
+    except ImportError:
+        raise InputError(
+            "--scheduler: dask.distributed is not installed (pip install 'taichi-bearing"
+            "[distributed]')"
+        ) from None
+    own = not hasattr(scheduler, "submit")
+    try:
+        client = Client(scheduler, timeout="10s") if own else scheduler
+    except (OSError, TimeoutError) as exc:
+        raise InputError(f"--scheduler: cannot reach {scheduler} ({exc})") from None
+    try:
+        threads = _dask_threads(client)
+        cells = [c if c.threads is not None else _with_threads(c, threads) for c in cells]
+        # pure=False: a rerun of a failed cell is a new task, not a cached result
+        futures = {client.submit(run_cell, c, pure=False, key=f"sweep-{c.name}-{id(c)}"): c
+                   for c in cells}  # fmt: skip
+        for fut in as_completed(list(futures)):
+            done(_outcome(fut, futures[fut]))
+    finally:
+        if own:
+            client.close()
+
+
+def _with_threads(cell: SweepCell, threads: int) -> SweepCell:
+    import dataclasses
+
+    return dataclasses.replace(cell, threads=threads)
+
+
+def _outcome(fut, cell: SweepCell) -> CellResult:
+    """The future's result, or a failed result naming the exception (a lost worker)."""
+    try:
+        return fut.result()
+    except Exception as exc:  # noqa: BLE001 - one lost case must not stop the sweep
+        r = CellResult(cell.name, cell.load_kN, cell.speed_rpm, cell.out_dir, "failed")
+        r.error = f"{type(exc).__name__}: {exc}"
+        return r
