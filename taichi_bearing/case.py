@@ -96,6 +96,9 @@ class Bearing:
     inner_ring_thickness: float
     adapter_width: float
     adapter_height: float
+    # What holds the outer ring: "adapter" (the loading plate on the adapter top only) or
+    # "housing" (a rigid housing over the ring's whole outside: Harris's rigid outer ring)
+    outer_support: str = "adapter"
 
     @property
     def roller_radius(self) -> float:
@@ -366,6 +369,7 @@ SCHEMA: dict[str, tuple[type, tuple[Key, ...]]] = {
             Key("inner_ring_thickness_mm", float, **POS),
             Key("adapter_width_mm", float, **POS),
             Key("adapter_height_mm", float, **POS),
+            Key("outer_support", str, choices=("adapter", "housing"), default="adapter"),
         ),
     ),
     "material": (

@@ -28,6 +28,7 @@ from taichi_bearing.solver.loads import (
     RigidPlate,
     RigidVelocity,
     line_load,
+    uniform_load,
 )
 from taichi_bearing.solver.materials import Material
 
@@ -36,7 +37,9 @@ __all__ = [
     "Setup",
     "align_rollers",
     "build_setup",
+    "outer_surface_nodes",
     "roller_names",
+    "support_plate_nodes",
     "rolling_rates",
 ]
 
@@ -123,6 +126,30 @@ def align_rollers(mesh: Mesh, n_rollers: int) -> Mesh:
     return dataclasses.replace(mesh, nodes=nodes)
 
 
+def outer_surface_nodes(mesh: Mesh, radius: float) -> np.ndarray:
+    """Nodes of the outer ring on its outside circle of ``radius`` (m), all the way round
+    (under the adapter too: the adapter shares the ring's nodes there)."""
+    ids = np.unique(mesh.elements[mesh.element_part == mesh.part_id("outer_ring")])
+    r = np.hypot(mesh.nodes[ids, 0], mesh.nodes[ids, 1])
+    # a tolerance well below the smallest element, above round-off
+    return ids[np.abs(r - radius) < 1e-6 * radius]
+
+
+def support_plate_nodes(case: Case, mesh: Mesh) -> np.ndarray:
+    """Nodes of the rigid plate that carries the load W (one shared vertical motion, x
+    held), by ``case.bearing.outer_support``.
+
+    ``adapter``: the adapter top. Holding x alone would leave a zero-energy tilt of the
+    outer ring about the top's centre (every top node can move vertically on its own)
+    that roller friction would drive; the plate cannot tilt. ``housing``: a rigid
+    housing over the outer ring's whole outside (the adapter rides along on it), so the
+    outer ring is supported all round as in Harris's rigid-ring load distribution.
+    """
+    if case.bearing.outer_support == "housing":
+        return outer_surface_nodes(mesh, case.bearing.outer_ring_outer_radius)
+    return np.asarray(mesh.node_sets["adapter_top"])
+
+
 def build_setup(case: Case, mesh: Mesh) -> Setup:
     """The model's set-up data for ``case`` meshed as ``mesh``.
 
@@ -142,15 +169,16 @@ def build_setup(case: Case, mesh: Mesh) -> Setup:
     mat = case.material
     n = case.bearing.n_rollers
     rates = rolling_rates(case)
-    top = mesh.node_sets["adapter_top"]
     bore = mesh.node_sets["inner_bore"]
 
-    # The adapter top is a rigid loading plate: its nodes share one vertical motion and
-    # carry W in total, and are held horizontally. Holding x alone would leave a
-    # zero-energy tilt of the outer ring about the top's centre (every top node can move
-    # vertically on its own) that roller friction would drive.
-    plate = RigidPlate(top, (0.0, 1.0))
-    load = line_load(mesh.nodes, top, (0.0, -case.operating.load))
+    held = support_plate_nodes(case, mesh)
+    plate = RigidPlate(held, (0.0, 1.0))
+    if case.bearing.outer_support == "housing":
+        load = uniform_load(held, (0.0, -case.operating.load))
+        support_note = "rigid housing over the outer ring's outside: one vertical motion"
+    else:
+        load = line_load(mesh.nodes, held, (0.0, -case.operating.load))
+        support_note = "rigid loading plate: one shared vertical motion, x held"
     # The bore turns rigidly at the shaft speed from t = 0 (the bodies start with the
     # velocities of ideal rolling, so no ramp); during the preload it is held at angle 0.
     shaft = PrescribedRotation(bore, (0.0, 0.0), rates.shaft, omega_start=rates.shaft)
@@ -180,7 +208,7 @@ def build_setup(case: Case, mesh: Mesh) -> Setup:
         rates=rates,
         n_rollers=n,
         notes={
-            "adapter_top": "rigid loading plate: one shared vertical motion, x held",
+            "outer_support": f"{case.bearing.outer_support}: {support_note}",
             "inner_bore": "rigid rotation about the centre at the shaft speed",
             "damping": (
                 f"stiffness-proportional {d.ratio:g} at {d.frequency:g} Hz, "

@@ -93,6 +93,15 @@ def test_damping_element_cap_defaults_and_is_validated(tmp_path, raw):
         load_case(write(tmp_path, raw))
 
 
+def test_outer_support_defaults_to_the_adapter(tmp_path, raw):
+    raw = dict(raw, bearing={k: v for k, v in raw["bearing"].items() if k != "outer_support"})
+    assert load_case(write(tmp_path, raw)).bearing.outer_support == "adapter"
+    raw["bearing"]["outer_support"] = "housing"
+    case = load_case(write(tmp_path, raw))
+    assert case.bearing.outer_support == "housing"
+    assert case_to_dict(case)["bearing"]["outer_support"] == "housing"
+
+
 @pytest.mark.parametrize(
     "path", sorted((ROOT / "cases").glob("*.yaml")) + sorted((ROOT / "cases").glob("*/*.yaml"))
 )
@@ -115,7 +124,9 @@ def test_attribute_is_key_without_unit_suffix():
 
 def test_round_trip(tmp_path, raw, default_case_path):
     case = load_case(default_case_path)
-    assert case_to_dict(case) == raw  # every key and value of the file comes back
+    # every key and value of the file comes back, plus the optional keys' defaults
+    raw["bearing"].setdefault("outer_support", "adapter")
+    assert case_to_dict(case) == raw
     again = load_case(write(tmp_path, case_to_dict(case)))
     assert again.source != case.source
     assert dataclasses.replace(again, source=None) == dataclasses.replace(case, source=None)
@@ -175,6 +186,7 @@ def test_output_section_is_optional(raw):
         ("output", "csv", "yes"),
         ("run", "arch", "tpu"),
         ("defect", "race", "cage"),
+        ("bearing", "outer_support", "shaft"),
         ("material", "density_kg_m3", float("nan")),
     ],
 )
