@@ -71,7 +71,7 @@ def disk_on_block(
     )
     contact = PenaltyContact(model, [pair], params)
     model.contributors.append(contact)
-    assert relax(model, ke_ratio_tol=1e-6, max_steps=40_000).converged
+    assert relax(model, ke_ratio_tol=1e-8, max_steps=60_000).converged
     contact.reset_dissipation()
     return model, contact, disk_ids
 

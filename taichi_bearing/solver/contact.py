@@ -9,6 +9,11 @@ Each step, for every node of every surface that takes part in a pass (a "query")
    of a segment beyond a convex vertex never wins; ties to the lower index); contact if
    the node is behind it, gap ``g = (x - a) . n < 0``, no deeper than the capture depth
    (a node in the wedge outside a convex vertex is caught by the other pass);
+   with ``smoothing`` the gap and normal are those of the segment's reference arc laid
+   on the current chord: ``g -= kappa L^2 xi (1 - xi) / 2`` and the normal turned by
+   ``kappa L (xi - 1/2)`` (``kappa`` from
+   :func:`~taichi_bearing.solver.contact_setup.segment_curvature`; 0 at flats, corners
+   and open ends), so a polygonal roller rolls like a circle (no facet ripple);
 3. normal force ``fn = max(0, k (-g) - c v_n)``, ``c = 2 zeta sqrt(k m_eff)``;
 4. friction: elastic stick ``ft_trial = ft_old - k dt v_t`` (tangential spring of the
    normal penalty stiffness), return-mapped onto ``|ft| <= mu fn`` with
@@ -43,6 +48,8 @@ from taichi_bearing.solver.contact_setup import (
     ContactPair,
     ContactParameters,
     grid_spec,
+    query_neighbours,
+    segment_curvature,
     segment_stiffness,
 )
 from taichi_bearing.solver.model import Model
@@ -117,6 +124,9 @@ class PenaltyContact:
             q_surf.append(np.full(len(nodes), s))
         q_node = np.concatenate(q_node).astype(np.int32)
         q_surf = np.concatenate(q_surf).astype(np.int32)
+        q_prev, q_next, q_kappa = query_neighbours(
+            mesh, [names[s] for s in query_surfaces], q_node, params.smoothing
+        )
         # segments of the surfaces queried against
         segs, seg_surf = [], []
         for m in seg_surfaces:
@@ -130,6 +140,10 @@ class PenaltyContact:
         k_seg = segment_stiffness(
             mesh, segs, lam, mu, model.area_np, model.thickness, params.penalty_scale
         )
+        kappa = np.zeros(len(segs))
+        if params.smoothing:
+            kappa = segment_curvature(mesh.nodes, segs, seg_surf)
+        self.seg_kappa_np = kappa
         track = np.unique(np.concatenate([q_node, segs.ravel()])).astype(np.int32)
         X = np.asarray(mesh.nodes, dtype=float)
         lengths = np.linalg.norm(X[segs[:, 1]] - X[segs[:, 0]], axis=1)
@@ -150,6 +164,9 @@ class PenaltyContact:
         self.pass_sign = f(ti.f64, shape=ns * ns)
         self.q_node = f(ti.i32, shape=nq)
         self.q_surf = f(ti.i32, shape=nq)
+        self.q_prev = f(ti.i32, shape=nq)  # neighbours along the query's own surface
+        self.q_next = f(ti.i32, shape=nq)
+        self.q_kappa = f(ti.f64, shape=nq)  # reference curvature of its surface there
         self.q_seg = f(ti.i32, shape=nq)  # segment in contact, -1 open
         self.q_ft = f(ti.f64, shape=nq)  # tangential spring force along the segment
         self.q_fn = f(ti.f64, shape=nq)  # last normal force
@@ -160,6 +177,7 @@ class PenaltyContact:
         self.seg_b = f(ti.i32, shape=nseg)
         self.seg_surf = f(ti.i32, shape=nseg)
         self.seg_k = f(ti.f64, shape=nseg)
+        self.seg_kappa = f(ti.f64, shape=nseg)  # reference arc curvature, 0: straight
         self.track = f(ti.i32, shape=len(track))
         self.x_ref = v2(len(track))
         self.cell_start = f(ti.i32, shape=g.n_cells + 1)
@@ -177,11 +195,15 @@ class PenaltyContact:
         self.pass_sign.from_numpy(sign)
         self.q_node.from_numpy(q_node)
         self.q_surf.from_numpy(q_surf)
+        self.q_prev.from_numpy(q_prev)
+        self.q_next.from_numpy(q_next)
+        self.q_kappa.from_numpy(q_kappa)
         self.q_seg.fill(-1)
         self.seg_a.from_numpy(segs[:, 0].astype(np.int32))
         self.seg_b.from_numpy(segs[:, 1].astype(np.int32))
         self.seg_surf.from_numpy(seg_surf)
         self.seg_k.from_numpy(k_seg)
+        self.seg_kappa.from_numpy(kappa)
         self.track.from_numpy(track)
         self.n_samples = 0
         self.rebuilds = 0
@@ -195,6 +217,7 @@ class PenaltyContact:
         self._scale, self._zeta = float(params.penalty_scale), float(params.damping_ratio)
         self._mu_s, self._mu_d = float(params.friction_static), float(params.friction_dynamic)
         self._decay = float(params.friction_decay)
+        self._smooth = bool(params.smoothing)
 
     # ------------------------------------------------------------------ search grid
 
@@ -315,6 +338,15 @@ class PenaltyContact:
                         if d2 < best_d2 or (d2 == best_d2 and s < best):
                             best, best_d2, best_xi = s, d2, xi
                             best_pen = -(xp - a).dot(ti.Vector([d[1], -d[0]])) / ti.sqrt(l2)
+                            # Against the arc: its offset from the chord (parabolic
+                            # sagitta, zero at the nodes) adds to the penetration.
+                            xc = ti.min(ti.max(xi, 0.0), 1.0)
+                            best_pen += 0.5 * self.seg_kappa[s] * l2 * xc * (1.0 - xc)
+            pen_eff = best_pen
+            e_el = 0.0
+            if ti.static(self._smooth):
+                if best >= 0:
+                    pen_eff, e_el, best_pen = self._patch(q, i, best, best_pen, best_xi, x)
             if best_pen <= 0.0 or best_pen >= self._capture:
                 best = -1
             if best < 0:
@@ -327,9 +359,79 @@ class PenaltyContact:
                 self.q_en[q] = 0.0
                 self.q_et[q] = 0.0
             else:
-                self._apply(q, i, S, best, best_pen, best_xi, x, v, mass, f_ext, dt)
+                self._apply(q, i, S, best, pen_eff, e_el, best_xi, x, v, mass, f_ext, dt)
         for p in range(self.n_pairs):
             self.acc[p] += self.cur[p]
+
+    @ti.func
+    def _frame(self, s, xi, x: ti.template()):
+        """Unit tangent and outward normal of segment s's arc at xi in [0, 1]: the
+        chord's turned by kappa L (xi - 1/2) (the chord's own when kappa = 0)."""
+        d = x[self.seg_b[s]] - x[self.seg_a[s]]
+        ln = d.norm()
+        tc = d / ln
+        th = self.seg_kappa[s] * ln * (xi - 0.5)
+        cs, sn = ti.cos(th), ti.sin(th)
+        tv = ti.Vector([cs * tc[0] - sn * tc[1], sn * tc[0] + cs * tc[1]])
+        return tv, ti.Vector([tv[1], -tv[0]])
+
+    @ti.func
+    def _patch(self, q, i, s, pen0, xi_raw, x: ti.template()):
+        """Penetration of the query's tributary arc (half-way to each neighbour) into
+        segment s's arc, ``p(r) = pen0 - r (u . n) - (kappa_q + kappa_s) r^2 / 2`` along
+        the arc length r from the node (u: the query surface's direction, reversed).
+
+        Returns (mean of max(0, p) over the patch, mean of max(0, p)^2 / 2, largest p):
+        the first is the penalty's penetration (its sum over nodes is the integral of the
+        overlap along the surface, which does not ripple as a polygon rolls), the second
+        the stored energy per unit k. Exact (3-point Gauss on each piece where p > 0).
+        """
+        xi = ti.min(ti.max(xi_raw, 0.0), 1.0)
+        tv, nv = self._frame(s, xi, x)
+        xp, xa, xb = x[i], x[self.q_prev[q]], x[self.q_next[q]]
+        h = 0.25 * ((xp - xa).norm() + (xb - xp).norm())  # half the tributary length
+        u = xa - xb
+        un = u.norm()
+        b = 0.0
+        if un > 0.0:
+            b = u.dot(nv) / un
+        c = self.q_kappa[q] + self.seg_kappa[s]
+        # Roots of p: A r^2 + B r + C = 0 (numerically stable form), clipped to [-h, h].
+        A, B, C = 0.5 * c, b, -pen0
+        r1, r2 = h, h
+        disc = B * B - 4.0 * A * C
+        if disc >= 0.0:
+            qq = -0.5 * (B + ti.sqrt(disc)) if B >= 0.0 else -0.5 * (B - ti.sqrt(disc))
+            if ti.abs(qq) > 0.0:
+                ra = C / qq
+                rb = ra
+                if ti.abs(A) > 0.0:
+                    rb = qq / A
+                r1 = ti.min(ti.max(ti.min(ra, rb), -h), h)
+                r2 = ti.min(ti.max(ti.max(ra, rb), -h), h)
+        i1, i2 = 0.0, 0.0
+        pmax = pen0
+        e = ti.Vector([-h, r1, r2, h])
+        g = ti.sqrt(0.6)
+        for k in ti.static(range(3)):
+            lo, hi = e[k], e[k + 1]
+            mid, half = 0.5 * (lo + hi), 0.5 * (hi - lo)
+            if half > 0.0:
+                pm = pen0 - mid * (b + 0.5 * c * mid)
+                if pm > 0.0:
+                    for j in ti.static(range(3)):
+                        r = mid + half * g * (j - 1)
+                        pr = pen0 - r * (b + 0.5 * c * r)
+                        wgt = half * (8.0 / 9.0 if j == 1 else 5.0 / 9.0)
+                        i1 += wgt * pr
+                        i2 += wgt * pr * pr
+        # Largest p: at an end of the patch or at its vertex inside.
+        pmax = ti.max(pmax, ti.max(pen0 - h * (b + 0.5 * c * h), pen0 + h * (b - 0.5 * c * h)))
+        if c > 0.0:
+            rv = ti.min(ti.max(-b / c, -h), h)
+            pmax = ti.max(pmax, pen0 - rv * (b + 0.5 * c * rv))
+        w = 2.0 * h
+        return i1 / w, 0.5 * i2 / w, pmax
 
     @ti.func
     def _apply(
@@ -339,6 +441,7 @@ class PenaltyContact:
         S,
         s,
         pen,
+        e_el,
         xi_raw,
         x: ti.template(),
         v: ti.template(),
@@ -348,10 +451,7 @@ class PenaltyContact:
     ):
         ia, ib = self.seg_a[s], self.seg_b[s]
         xi = ti.min(ti.max(xi_raw, 0.0), 1.0)
-        d = x[ib] - x[ia]
-        ln = d.norm()
-        tv = d / ln
-        nv = ti.Vector([tv[1], -tv[0]])
+        tv, nv = self._frame(s, xi, x)
         m_m = (1.0 - xi) * mass[ia] + xi * mass[ib]
         m_eff = mass[i] * m_m / (mass[i] + m_m)
         k = self.seg_k[s]
@@ -398,6 +498,8 @@ class PenaltyContact:
         self.q_fn[q] = fn
         self.q_gap[q] = -pen
         self.q_en[q] = 0.5 * k * pen * pen
+        if ti.static(self._smooth):
+            self.q_en[q] = k * e_el
         self.q_et[q] = e_t
 
     # ------------------------------------------------------------------ ForceContributor

@@ -16,6 +16,8 @@ __all__ = [
     "GridSpec",
     "PENALTY_METHODS",
     "grid_spec",
+    "query_neighbours",
+    "segment_curvature",
     "segment_elements",
     "segment_stiffness",
 ]
@@ -45,6 +47,11 @@ class ContactParameters:
         Exponential decay coefficient, s/m.
     damping_ratio : float
         Viscous contact damping ``c = 2 zeta sqrt(k m_eff)`` as a fraction of critical.
+    smoothing : bool
+        Contact against the arc each master segment had in the mesh rather than against
+        its chord (see :func:`segment_curvature`): removes the polygon's facet ripple
+        (sagitta ``L^2 / (8 R)``) from rolling contact. Flat segments and segments at
+        corners stay straight, so ``False`` and ``True`` agree on them.
     """
 
     penalty_method: str = "segment"
@@ -53,6 +60,7 @@ class ContactParameters:
     friction_dynamic: float = 0.0
     friction_decay: float = 0.0
     damping_ratio: float = 0.0
+    smoothing: bool = True
 
     def __post_init__(self) -> None:
         if self.penalty_method not in PENALTY_METHODS:
@@ -81,6 +89,7 @@ class ContactParameters:
             friction_dynamic=contact.friction_dynamic,
             friction_decay=contact.friction_decay,
             damping_ratio=contact.damping_ratio,
+            smoothing=bool(getattr(contact, "smoothing", True)),
         )
 
     def friction_coefficient(self, slip_speed: float | np.ndarray) -> float | np.ndarray:
@@ -139,6 +148,61 @@ def segment_stiffness(
     return scale * bulk * (length * thickness) ** 2 / (element_area[elem] * thickness)
 
 
+def _vertex_curvature(p: np.ndarray, a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """Signed curvature of the circle through p, a, b (rows), positive when the chain
+    p -> a -> b turns left (a convex body on the chain's left)."""
+    u, w, c = a - p, b - a, b - p
+    cross = u[:, 0] * w[:, 1] - u[:, 1] * w[:, 0]
+    norm = np.linalg.norm(u, axis=1) * np.linalg.norm(w, axis=1) * np.linalg.norm(c, axis=1)
+    return 2.0 * cross / norm
+
+
+def segment_curvature(
+    nodes: np.ndarray,
+    segments: np.ndarray,
+    surface: np.ndarray,
+    rel_tol: float = 0.05,
+    max_turn: float = 0.5,
+) -> np.ndarray:
+    """Signed curvature of each segment's arc, from the reference nodes, 1/m.
+
+    A segment (a, b) gets the curvature of its neighbours' circle when the circle
+    through (previous node, a, b) and the one through (a, b, next node) agree within
+    ``rel_tol`` (nodes of one circular arc give equal values whatever their spacing) and
+    the segment turns by less than ``max_turn`` radians; otherwise (an open end, a
+    corner such as a spall's edge, a flat) 0, i.e. straight. Positive: convex (the body
+    on the chain's left bulges out), negative: concave (an outer raceway).
+
+    The curvature is a property of the undeformed surface: applied to the current chord
+    it moves with the body and leaves the deformation to the nodes.
+    """
+    segs = np.asarray(segments, dtype=np.int64)
+    X = np.asarray(nodes, dtype=float)
+    n = len(segs)
+    prev = np.full(n, -1)
+    nxt = np.full(n, -1)
+    by_start = {(int(surface[k]), int(a)): k for k, (a, _) in enumerate(segs)}
+    for k, (_, b) in enumerate(segs):
+        j = by_start.get((int(surface[k]), int(b)), -1)
+        if j >= 0 and j != k:
+            nxt[k] = j
+            prev[j] = k
+    ok = (prev >= 0) & (nxt >= 0)
+    kappa = np.zeros(n)
+    if not ok.any():
+        return kappa
+    idx = np.flatnonzero(ok)
+    a, b = X[segs[idx, 0]], X[segs[idx, 1]]
+    ka = _vertex_curvature(X[segs[prev[idx], 0]], a, b)
+    kb = _vertex_curvature(a, b, X[segs[nxt[idx], 1]])
+    km = 0.5 * (ka + kb)
+    agree = np.abs(ka - kb) <= rel_tol * np.maximum(np.abs(ka), np.abs(kb))
+    length = np.linalg.norm(b - a, axis=1)
+    keep = agree & (np.abs(km) * length < max_turn) & (np.abs(km) > 0)
+    kappa[idx[keep]] = km[keep]
+    return kappa
+
+
 @dataclass(frozen=True)
 class GridSpec:
     """A uniform grid of square search cells: origin, cell size, counts, and the distances
@@ -184,3 +248,37 @@ def grid_spec(
     nx = max(1, math.ceil(ext[0] / cell))
     ny = max(1, math.ceil(ext[1] / cell))
     return GridSpec((float(lo[0]), float(lo[1])), cell, nx, ny, capture, margin)
+
+
+def query_neighbours(
+    mesh: Mesh, surfaces: list[str], nodes: np.ndarray, smoothing: bool
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """For each query node (of these surfaces, in this order): the previous and the next
+    node along its own surface (itself at an open end) and the surface's reference
+    curvature there (mean of its two segments' :func:`segment_curvature`; 0 at corners,
+    ends, or without ``smoothing``)."""
+    prev = np.asarray(nodes, dtype=np.int32).copy()
+    nxt = prev.copy()
+    kappa = np.zeros(len(nodes))
+    start = 0
+    for name in surfaces:
+        seg = np.asarray(mesh.surfaces[name], dtype=np.int64)
+        own = np.unique(seg.ravel())
+        pos = {int(n): start + k for k, n in enumerate(own)}
+        k_seg = np.zeros(len(seg))
+        if smoothing:
+            k_seg = segment_curvature(mesh.nodes, seg, np.zeros(len(seg)))
+        k_sum = np.zeros(len(own))
+        k_cnt = np.zeros(len(own))
+        for (a, b), kap in zip(seg, k_seg, strict=True):
+            ia, ib = pos[int(a)], pos[int(b)]
+            nxt[ia] = b
+            prev[ib] = a
+            for j in (ia, ib):
+                k_sum[j - start] += kap
+                k_cnt[j - start] += 1
+        # A node between a curved and a straight segment (a corner, an end) stays flat.
+        both = k_cnt == 2
+        kappa[start : start + len(own)] = np.where(both, k_sum / np.maximum(k_cnt, 1), 0.0)
+        start += len(own)
+    return prev, nxt, kappa
