@@ -16,6 +16,7 @@ import math
 import os
 import subprocess
 import sys
+import uuid
 from collections.abc import Callable, Iterable, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -238,9 +239,13 @@ def run_cell(cell: SweepCell) -> CellResult:
     cmd += ["--threads", str(_threads_here(cell)), "--quiet"]
     if not cell.post:
         cmd.append("--no-post")
+    # the child imports this very package, wherever the worker was started
+    env = dict(os.environ)
+    root = str(Path(__file__).resolve().parents[1])
+    env["PYTHONPATH"] = os.pathsep.join(p for p in (root, env.get("PYTHONPATH")) if p)
     t0 = time.perf_counter()
     try:
-        proc = subprocess.run(cmd, capture_output=True, text=True, check=False)
+        proc = subprocess.run(cmd, capture_output=True, text=True, check=False, env=env)
     except OSError as exc:
         res.error = f"could not start the run: {exc}"
         return res
@@ -360,8 +365,9 @@ def _run_dask(cells: list[SweepCell], scheduler, done) -> None:
     try:
         threads = _dask_threads(client)
         cells = [c if c.threads is not None else _with_threads(c, threads) for c in cells]
-        # pure=False: a rerun of a failed cell is a new task, not a cached result
-        futures = {client.submit(run_cell, c, pure=False, key=f"sweep-{c.name}-{id(c)}"): c
+        # a fresh key per submission: a rerun of a failed cell is a new task, not the
+        # cluster's remembered result
+        futures = {client.submit(run_cell, c, key=f"sweep-{c.name}-{uuid.uuid4().hex}"): c
                    for c in cells}  # fmt: skip
         for fut in as_completed(list(futures)):
             done(_outcome(fut, futures[fut]))

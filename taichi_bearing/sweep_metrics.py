@@ -99,7 +99,7 @@ def cell_metrics(run_dir: str | os.PathLike) -> dict[str, float]:
     t = hist["time_s"].to_numpy(dtype=float)
     m: dict[str, float] = dict.fromkeys(METRICS, math.nan)
     m["bpfo_hz"] = run.bpfo_hz
-    m["periods"] = (t[-1] - t[0] + 1.0 / run.fs) * run.bpfo_hz
+    m["periods"] = float((t[-1] - t[0] + 1.0 / run.fs) * run.bpfo_hz)
     m["env_bpfo"] = envelope_level_at(x, run.fs, run.bpfo_hz)
     m["accel_peak"] = float(np.max(np.abs(x - np.median(x))))
     outer = [c for c in hist.columns if c.endswith("_outer_fn")]
