@@ -15,7 +15,7 @@ import numpy as np
 import pandas as pd
 
 from diagnostics.files import atomic_path
-from taichi_bearing.sweep_metrics import METRICS
+from taichi_bearing.sweep_metrics import METRICS, WINDOW_S
 
 __all__ = ["increase_table", "trend_sentence", "write_sweep_outputs"]
 
@@ -216,7 +216,18 @@ def _report(df: pd.DataFrame, figures: list[Path], out: Path) -> str:
                "spectral line." if periods.min() < 1 else "the BPFO line is resolved."),
             "",
         ]  # fmt: skip
-    lines += ["## Does the model agree with the study?", ""]
+    w = WINDOW_S * 1e3
+    lines += ["Quantities (each run's files; forces of the rollers in `summary.json` events):", ""]
+    lines += [f"- `{k}`: {label} ({unit})" for k, (label, unit) in METRICS.items()]
+    lines += [
+        "",
+        f"Passage window: entry minus {w:g} ms to re-stressing plus {w:g} ms; re-stressing "
+        f"impulse: the first {w:g} ms after the first impact on the exit edge; envelope: "
+        "Hilbert envelope of the force minus its median before the window.",
+        "",
+        "## Does the model agree with the study?",
+        "",
+    ]
     lines += ["The study found that the re-stressing impulses and contact forces grow with "
               "load and with speed. From these runs:", ""]  # fmt: skip
     for key in TREND_KEYS:
