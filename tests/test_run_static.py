@@ -16,7 +16,7 @@ import numpy as np
 import pytest
 
 from taichi_bearing.case import load_case
-from taichi_bearing.checks import static_force_checks
+from taichi_bearing.checks import flexible_reference_checks, static_force_checks
 from taichi_bearing.quasistatic import analytical_roller_forces
 from taichi_bearing.starter import build_setup, outer_surface_nodes
 
@@ -186,3 +186,28 @@ def test_reference_roller_over_the_spall_carries_nothing():
     assert ref @ np.cos(2 * np.pi * np.arange(len(ref)) / len(ref)) == pytest.approx(
         case.operating.load, rel=1e-6
     )
+
+
+def test_coarse_adapter_preload_follows_the_flexible_reference_not_harris():
+    """Hung from the 120 mm adapter (the default support), the FE preload's load zone is
+    the flexible-ring reference's: measured on 1 mm elements, FE vs reference +0.1 % at
+    +-18 deg, +9.6 % at +-36 deg, -6.2 % at 0 deg; against Harris +40 % to +45 %, and
+    nothing beyond +-36 deg where Harris loads rollers out to +-72 deg."""
+    from taichi_bearing.static_reference import reference_roller_forces
+
+    # the adapter-hung ring creeps at KE ratios below ~1e-6; 1e-5 balances W within 0.1 %
+    case = load_case(HOUSING, ["bearing.outer_support=adapter", "preload.ke_ratio_tol=1e-5"])
+    pre = _preload(case)
+    fe = np.asarray(pre["outer_force_N"])
+    an = analytical_roller_forces(case)
+    ref = reference_roller_forces(case)
+    assert sum(pre["outer_fy_N"]) == pytest.approx(case.operating.load, rel=0.01)
+    # the same rollers are loaded (5 % of Q_max) in the FE and the reference, fewer
+    # than in Harris's rigid-ring model
+    assert np.array_equal(fe > 0.05 * fe.max(), ref > 0.05 * ref.max())
+    assert (ref > 0.05 * ref.max()).sum() < (an > 0.05 * an.max()).sum()
+    assert flexible_reference_checks(fe, ref)["static_roller_forces_flexible"]["passed"]
+    # Q_max: within the per-roller 10 % of the reference (the 5 % check is missed on
+    # this mesh, -6.2 %), more than 30 % above Harris
+    assert fe.max() == pytest.approx(ref.max(), rel=0.10)
+    assert fe.max() > 1.3 * an.max()
