@@ -10,13 +10,16 @@ bodies are given the rigid velocities of ideal rolling so that the grid is rebui
 would be in a run. Columns: ms per step for the element/node kernels alone (the baseline,
 ``Model.advance`` without contributors, per-step launches), for the contact alone
 (``add_forces``), for the rigid cage alone, and for a full step with both; their share of
-the full step; grid rebuilds. A last row forces a grid rebuild every step (the worst case
-of the search). Best of 5 repeats each.
+the full step; grid rebuilds. A row with ``smoothing`` off (contact against the chords,
+the polygon: the baseline of the smooth arc contact, which is the case's default). A last
+row forces a grid rebuild every step (the worst case of the search). Best of 5 repeats
+each.
 """
 
 from __future__ import annotations
 
 import argparse
+import dataclasses
 import sys
 import time
 from pathlib import Path
@@ -87,6 +90,10 @@ def main() -> int:
 
     base = _time(lambda n: model.advance(n, serial=False), args.steps)
     contact_only = _time(lambda n: [contact.add_forces(model, 0.0) for _ in range(n)], args.steps)
+    flip = dataclasses.replace(params, smoothing=not params.smoothing)
+    other = PenaltyContact(model, pairs, flip)
+    other_only = _time(lambda n: [other.add_forces(model, 0.0) for _ in range(n)], args.steps)
+    model.f_extra.fill(0.0)
     cage = RigidCage.from_mesh(model, params, case.cage.mass, case.cage.pocket_clearance)
     cage_only = _time(lambda n: [cage.add_forces(model, 0.0) for _ in range(n)], args.steps)
     model.contributors.append(contact)
@@ -103,7 +110,10 @@ def main() -> int:
     worst = _time(rebuild_every_step, args.steps)
     print(f"{'':34s}{'ms/step':>10s}{'share of full step':>20s}")
     print(f"{'elements + nodes (baseline)':34s}{base:10.3f}")
-    print(f"{'contact alone (add_forces)':34s}{contact_only:10.3f}{contact_only / full:20.1%}")
+    label = f"contact alone, smoothing {'on' if params.smoothing else 'off'}"
+    print(f"{label:34s}{contact_only:10.3f}{contact_only / full:20.1%}")
+    label = f"contact, smoothing {'off' if params.smoothing else 'on'}"
+    print(f"{label:34s}{other_only:10.3f}{other_only / full:20.1%}")
     print(f"{'rigid cage alone':34s}{cage_only:10.3f}{cage_only / full:20.1%}")
     print(f"{'full step with contact and cage':34s}{full:10.3f}")
     print(f"{'contact with a rebuild every step':34s}{worst:10.3f}{worst / (base + worst):20.1%}")

@@ -167,6 +167,7 @@ class PenaltyContact:
         self.q_prev = f(ti.i32, shape=nq)  # neighbours along the query's own surface
         self.q_next = f(ti.i32, shape=nq)
         self.q_kappa = f(ti.f64, shape=nq)  # reference curvature of its surface there
+        self.q_hmax = f(ti.f64, shape=nq)  # 1.5 x half the reference tributary length
         self.q_seg = f(ti.i32, shape=nq)  # segment in contact, -1 open
         self.q_ft = f(ti.f64, shape=nq)  # tangential spring force along the segment
         self.q_fn = f(ti.f64, shape=nq)  # last normal force
@@ -198,6 +199,12 @@ class PenaltyContact:
         self.q_prev.from_numpy(q_prev)
         self.q_next.from_numpy(q_next)
         self.q_kappa.from_numpy(q_kappa)
+        Xq = np.asarray(mesh.nodes, dtype=float)
+        half = 0.25 * (
+            np.linalg.norm(Xq[q_node] - Xq[q_prev], axis=1)
+            + np.linalg.norm(Xq[q_next] - Xq[q_node], axis=1)
+        )
+        self.q_hmax.from_numpy(1.5 * half)
         self.q_seg.fill(-1)
         self.seg_a.from_numpy(segs[:, 0].astype(np.int32))
         self.seg_b.from_numpy(segs[:, 1].astype(np.int32))
@@ -345,7 +352,11 @@ class PenaltyContact:
             pen_eff = best_pen
             e_el = 0.0
             if ti.static(self._smooth):
-                if best >= 0:
+                # Most queries are far from contact: skip the patch when even a patch of
+                # 1.5x the reference size, tilted 90 degrees, could not reach the arc.
+                hq = self.q_hmax[q]
+                reach = hq * (1.0 + 0.5 * ti.abs(self.q_kappa[q] + self.seg_kappa[best]) * hq)
+                if best >= 0 and best_pen + reach > 0.0:
                     pen_eff, e_el, best_pen = self._patch(q, i, best, best_pen, best_xi, x)
             if best_pen <= 0.0 or best_pen >= self._capture:
                 best = -1
