@@ -16,6 +16,7 @@ Usage: ``python benchmarks/bench_diagnostics.py [--repeat N]``
 from __future__ import annotations
 
 import argparse
+import importlib
 import sys
 import time
 from pathlib import Path
@@ -85,7 +86,8 @@ def kurtogram_row(x: np.ndarray, repeat: int) -> list[str]:
 
 def diagnose_row(x: np.ndarray, repeat: int) -> list[str]:
     try:
-        import diagnostics.diagnose as diagnose_module
+        # The package exports the function diagnose, which shadows the submodule's name.
+        diagnose_module = importlib.import_module("diagnostics.diagnose")
         from diagnostics.diagnose import diagnose
         from diagnostics.frequencies import BearingGeometry
     except ImportError as exc:
