@@ -13,8 +13,7 @@ from pathlib import Path
 
 import numpy as np
 
-from diagnostics.files import atomic_path
-from taichi_bearing.post.mesh_render import _quiet_vtk
+from taichi_bearing.post.mesh_render import _quiet_vtk, frame_and_save
 
 __all__ = ["rigid_and_elastic", "render_spall_frame", "nice_factor"]
 
@@ -146,17 +145,7 @@ def render_spall_frame(
         title + f"\nelastic displacement x{mag:g} (rigid motion of each part removed)" + text_marks
     )
     plotter.add_text(text, position=(12, int(size * 0.6) - 60), font_size=10, color="black")
-    plotter.enable_parallel_projection()
-    cam = plotter.camera
-    cam.focal_point = (float(focus[0]), float(focus[1]), 0.0)
-    cam.position = (float(focus[0]), float(focus[1]), 1.0)
-    cam.up = (float(radial[0]), float(radial[1]), 0.0)
-    cam.parallel_scale = float(half_height)
-    cam.clipping_range = (0.01, 10.0)
-    out_path = Path(out_path)
-    with atomic_path(out_path) as tmp:
-        plotter.screenshot(str(tmp))
-    plotter.close()
+    out_path = frame_and_save(plotter, Path(out_path), focus, radial, half_height)
     return {
         "magnification": mag,
         "max_elastic_m": peak,

@@ -173,6 +173,12 @@ def _render(
     if legend:
         key = "blue: outer ring + adapter\nyellow: inner ring\nred: roller 0\ngrey: rollers"
         plotter.add_text(key, position="upper_right", font_size=12, color="black")
+    return frame_and_save(plotter, path, focus, up, half_height)
+
+
+def frame_and_save(plotter, path, focus, up, half_height: float):
+    """Look straight down on the mesh plane at ``focus`` (``up`` upwards on the picture,
+    ``half_height`` metres from centre to top edge), save a screenshot atomically, close."""
     plotter.enable_parallel_projection()
     cam = plotter.camera
     cam.focal_point = (float(focus[0]), float(focus[1]), 0.0)
