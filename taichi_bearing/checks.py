@@ -44,12 +44,16 @@ SPEED_LIMIT = 0.02
 RESTRESS_LIMIT = 0.02
 ENERGY_LIMIT = 0.02
 NOISE_LIMIT = 0.05
+TONE_DB = 10.0  # a spectral peak this far above its band's median is a tone
 DEFECT_SIZE_LIMIT = 0.5
 EXIT_BURST_LIMIT = 2.0
 RESTRESS_MEAN_S = 1e-4  # averaging time of the re-stressing force, s
 PASSAGE_WINDOW_M = 1.5e-3  # contact travel of the entry and exit windows, m
+EXIT_BURST_S = 1e-3  # shortest exit window: the re-stressing burst rings for ~1 ms
 # A roller counts as loaded when the analytical model gives it this share of Q_max.
 LOADED_SHARE = 0.05
+# Floor of each loaded roller's tolerance, as a share of Q_max (the zone-edge rollers).
+STATIC_EDGE_SHARE = 0.05
 
 
 def check(value, limit, passed, note: str = "") -> dict:
@@ -73,21 +77,31 @@ def check(value, limit, passed, note: str = "") -> dict:
 
 
 def _force_checks(static, expected, names: tuple[str, str], what: str) -> dict[str, dict]:
-    """Each roller loaded in ``expected`` within 10 % of it, Q_max within 5 %."""
+    """Each loaded roller within 10 % of ``expected`` (or within 5 % of Q_max, whichever
+    is larger), Q_max within 5 %.
+
+    The absolute floor is for the zone-edge rollers: their force is the small difference
+    of two ring displacements some 50 um large, so a difference of about 1 um in the
+    approach (0.05 Q_max at the edge of the default load zone) moves them by tens of
+    percent while leaving the load distribution as it is.
+    """
     static = np.asarray(static, dtype=float)
     expected = np.asarray(expected, dtype=float)
     q_max = expected.max()
     loaded = expected > LOADED_SHARE * q_max
-    rel = np.abs(static[loaded] - expected[loaded]) / expected[loaded]
-    worst = int(np.flatnonzero(loaded)[np.argmax(rel)])
+    allowed = np.maximum(STATIC_EACH_LIMIT * expected, STATIC_EDGE_SHARE * q_max)
+    excess = np.abs(static - expected)[loaded] / allowed[loaded]  # <= 1 passes
+    worst = int(np.flatnonzero(loaded)[np.argmax(excess)])
     qmax_err = abs(static.max() - q_max) / q_max
     return {
         names[0]: check(
-            rel.max(),
-            STATIC_EACH_LIMIT,
-            rel.max() <= STATIC_EACH_LIMIT,
-            f"largest relative error over the {int(loaded.sum())} loaded rollers "
-            f"(roller {worst}: {static[worst]:.5g} N vs {what} {expected[worst]:.5g} N)",
+            excess.max(),
+            1.0,
+            excess.max() <= 1.0,
+            f"largest error over tolerance of the {int(loaded.sum())} loaded rollers "
+            f"(10 % of its force or {STATIC_EDGE_SHARE:.0%} of Q_max, whichever is larger): "
+            f"roller {worst}: {static[worst]:.5g} N vs {what} {expected[worst]:.5g} N "
+            f"({static[worst] - expected[worst]:+.4g} N, allowed +-{allowed[worst]:.4g} N)",
         ),
         names[1]: check(
             qmax_err,
@@ -98,10 +112,24 @@ def _force_checks(static, expected, names: tuple[str, str], what: str) -> dict[s
     }
 
 
-def static_force_checks(static: np.ndarray, analytical: np.ndarray) -> dict[str, dict]:
-    """Each loaded roller within 10 % of the analytical (rigid-ring) force, Q_max
-    within 5 %."""
-    return _force_checks(static, analytical, ("static_roller_forces", "static_q_max"), "analytical")
+def static_force_checks(
+    static: np.ndarray, analytical: np.ndarray, outer_support: str = "housing"
+) -> dict[str, dict]:
+    """Each loaded roller against the analytical (rigid-ring) force, Q_max within 5 %.
+
+    The rigid-ring model holds for an outer ring held all round (``housing``). Hung from
+    the adapter the ring ovalises and fewer rollers carry the load (Q_max some 40-50 %
+    above Harris's on the default bearing); there the comparison is reported with
+    ``passed`` None and the flexible-ring checks are the ones that apply.
+    """
+    out = _force_checks(static, analytical, ("static_roller_forces", "static_q_max"), "analytical")
+    if outer_support != "housing":
+        for entry in out.values():
+            entry["passed"] = None
+            entry["note"] += (
+                "; not applicable: the adapter-hung outer ring is not rigid (see static_*_flexible)"
+            )
+    return out
 
 
 def flexible_reference_checks(static: np.ndarray, reference: np.ndarray) -> dict[str, dict]:
@@ -301,15 +329,23 @@ def passage_signature(
 
     Windows: entry ``[entry - window, entry + window / 2]``; traverse (with any floor
     impact) from half a window after entry to the first impact on the exit edge; exit
-    ``[first impact, first impact + window]``. Returns the largest roller force in the
-    entry and exit windows over ``F0`` (no impulse at entry: about 1 or less), the number
-    of separate impulses at
-    exit (rises above ``F0 / 2`` after falls below ``F0 / 4``), and the largest |a - median|
-    of ``signal`` in each window.
+    (the re-stressing burst) from the first impact for ``window`` or :data:`EXIT_BURST_S`,
+    whichever is longer: the roller bounces between the exit edge and the inner raceway
+    (a ~15 kHz radial mode) for about a millisecond whatever the speed.
+
+    Returns the largest force on the roller in the entry and exit windows over ``F0``
+    (outer or inner raceway, whichever is larger: the re-stressing squeezes the roller
+    between both; about 1 or less at entry: no impulse), the number of separate impulses
+    of the outer-raceway force at exit (peaks standing at least ``F0 / 2`` above the
+    troughs either side), and the largest |a - median| of ``signal`` in each window.
     """
+    from scipy.signal import find_peaks
+
     t = hist["time_s"].to_numpy()
     j = int(event["roller"])
     fn = hist[f"roller{j}_outer_fn"].to_numpy()
+    inner = hist.get(f"roller{j}_inner_fn")
+    both = fn if inner is None else np.maximum(fn, inner.to_numpy())
     acc = hist[signal].to_numpy()
     acc = np.abs(acc - np.median(acc))
     f0 = float(event["force_before_N"])
@@ -317,21 +353,18 @@ def passage_signature(
     tx = float(event.get("first_impact_time_s", event["exit_time_s"]))
     entry = (t >= te - window_s) & (t <= te + 0.5 * window_s)
     floor = (t > te + 0.5 * window_s) & (t < tx)
-    leave = (t >= tx) & (t <= tx + window_s)
-    impulses, armed = 0, True
-    for f in fn[leave]:
-        if armed and f > 0.5 * f0:
-            impulses, armed = impulses + 1, False
-        elif f < 0.25 * f0:
-            armed = True
+    leave = (t >= tx) & (t <= tx + max(window_s, EXIT_BURST_S))
+    # the roller is unloaded just before its first impact: a zero in front lets an
+    # impulse at the window's start count
+    peaks, _ = find_peaks(np.concatenate([[0.0], fn[leave]]), prominence=0.5 * f0)
 
     def peak(a, sel):
         return float(a[sel].max()) if sel.any() else 0.0
 
     return {
-        "entry_force_peak_ratio": peak(fn, entry) / f0,
-        "exit_force_peak_ratio": peak(fn, leave) / f0,
-        "exit_impulses": impulses,
+        "entry_force_peak_ratio": peak(both, entry) / f0,
+        "exit_force_peak_ratio": peak(both, leave) / f0,
+        "exit_impulses": int(len(peaks)),
         "entry_accel_peak": peak(acc, entry),
         "floor_accel_peak": peak(acc, floor),
         "exit_accel_peak": peak(acc, leave),
@@ -392,43 +425,78 @@ def predicted_noise_frequencies(case: Case, info: Mapping) -> dict[str, float]:
 
 def noise_frequencies(
     signal: np.ndarray, fs: float, predicted: Mapping[str, float], band: float = 0.1
-) -> tuple[dict[str, float | None], float]:
-    """Frequency of the highest spectral peak within +-``band`` of each prediction (None
-    above Nyquist), and the spectral resolution (Hz) of the estimate."""
+) -> tuple[dict[str, float | None], float, dict[str, float | None]]:
+    """The highest spectral peak within +-``band`` of each prediction.
+
+    Returns its frequency (None above Nyquist), the spectral resolution (Hz) and the
+    peak's prominence: its PSD over the median PSD of the band, in dB (a tone stands
+    well above the broadband response; noise alone gives a few dB).
+    """
     from diagnostics import psd
 
     x = np.asarray(signal, dtype=float)
     x = x - x.mean()
     if len(x) < 64:
-        return dict.fromkeys(predicted), math.inf
+        return dict.fromkeys(predicted), math.inf, dict.fromkeys(predicted)
     nperseg = min(4096, len(x))
     f, p = psd(x, fs, nperseg=nperseg)
     df = fs / nperseg
     out: dict[str, float | None] = {}
+    prominence: dict[str, float | None] = {}
     for name, f0 in predicted.items():
         # at least the neighbouring bins, however coarse the resolution
         half = max(band * f0, 1.5 * df)
         sel = (f >= f0 - half) & (f <= f0 + half)
-        out[name] = float(f[sel][np.argmax(p[sel])]) if sel.any() and f0 < fs / 2 else None
-    return out, df
+        if not sel.any() or f0 >= fs / 2:
+            out[name] = prominence[name] = None
+            continue
+        k = int(np.argmax(p[sel]))
+        out[name] = float(f[sel][k])
+        background = float(np.median(p[sel]))
+        prominence[name] = float(10 * np.log10(p[sel][k] / background)) if background > 0 else None
+    return out, df, prominence
 
 
 def noise_check(
-    predicted: Mapping[str, float], measured: Mapping[str, float | None], resolution: float
+    predicted: Mapping[str, float],
+    measured: Mapping[str, float | None],
+    resolution: float,
+    prominence_db: Mapping[str, float | None] | None = None,
 ) -> dict:
-    """Distance of the measured peak from each prediction, relative to the prediction;
-    the limit is 5 % or the spectral resolution, whichever is larger."""
-    pairs = [(predicted[k], measured[k]) for k in predicted if measured.get(k) is not None]
-    if not pairs:
+    """Distance of each tonal peak from its prediction, relative to the prediction; the
+    limit is 5 % or the spectral resolution, whichever is larger.
+
+    Only peaks at least :data:`TONE_DB` above the band's median count as tones (all of
+    them when no prominence is given). With none, the facet noise is below the broadband
+    response (smooth contact removes most of it): ``passed`` None, the levels in the note.
+    """
+    prominence_db = prominence_db or {}
+    names = [k for k in predicted if measured.get(k) is not None]
+    if not names:
         return check(None, NOISE_LIMIT, None, "no prediction below Nyquist")
-    err = max(abs(m - p) / p for p, m in pairs)
-    limit = max(NOISE_LIMIT, resolution / min(p for p, _ in pairs))
+    tones = [k for k in names if (prominence_db.get(k) or math.inf) >= TONE_DB]
+    limit = max(NOISE_LIMIT, resolution / min(predicted[k] for k in names))
+
+    def describe(k):
+        level = prominence_db.get(k)
+        db = "" if level is None else f" ({level:.3g} dB over the band)"
+        return f"{k} {predicted[k]:.5g} -> {measured[k]:.5g} Hz{db}"
+
+    listing = ", ".join(describe(k) for k in names)
+    if not tones:
+        return check(
+            None,
+            limit,
+            None,
+            f"no tonal peak {TONE_DB:g} dB above the band within 10 % of the predicted "
+            f"facet frequencies: the facet noise is below the broadband response; {listing}",
+        )
+    err = max(abs(measured[k] - predicted[k]) / predicted[k] for k in tones)
     return check(
         err,
         limit,
         err <= limit,
-        f"spectral peak next to each predicted frequency (resolution {resolution:.4g} Hz): "
-        + ", ".join(f"{k} {predicted[k]:.4g} -> {measured[k]} Hz" for k in predicted),
+        f"tonal peak next to each predicted frequency (resolution {resolution:.4g} Hz): " + listing,
     )
 
 
@@ -480,7 +548,7 @@ def run_checks(case: Case, info: Mapping, hist: pd.DataFrame, preload: Mapping) 
     checks: dict[str, dict] = {}
     analytical = analytical_roller_forces(case)
     static = np.asarray(preload["outer_force_N"], dtype=float)
-    checks.update(static_force_checks(static, analytical))
+    checks.update(static_force_checks(static, analytical, case.bearing.outer_support))
     reference = reference_roller_forces(case)
     checks.update(flexible_reference_checks(static, reference))
     speed, speed_values = speed_checks(case, hist)
@@ -498,8 +566,8 @@ def run_checks(case: Case, info: Mapping, hist: pd.DataFrame, preload: Mapping) 
         e.update(sig)
     checks["exit_burst"] = exit_burst_check(signatures)
     predicted = predicted_noise_frequencies(case, info)
-    measured, resolution = noise_frequencies(acc, fs, predicted)
-    checks["noise_frequencies"] = noise_check(predicted, measured, resolution)
+    measured, resolution, prominence = noise_frequencies(acc, fs, predicted)
+    checks["noise_frequencies"] = noise_check(predicted, measured, resolution, prominence)
     checks["defect_size"], size = defect_size_check(case, acc, fs)
     return {
         "sensor_names": list(case.sensors),
@@ -518,6 +586,7 @@ def run_checks(case: Case, info: Mapping, hist: pd.DataFrame, preload: Mapping) 
         "restress_times_s": [e["exit_time_s"] for e in events],
         "noise_frequencies_predicted_hz": predicted,
         "noise_frequencies_measured_hz": measured,
+        "noise_peak_prominence_db": prominence,
         "defect_size_estimate_m": size,
         "defect_size_true_m": case.defect.length if case.defect.present else None,
         "checks": checks,

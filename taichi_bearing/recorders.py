@@ -33,15 +33,16 @@ class ContactForceRecorder:
 
 
 def roller_motion_columns(n_rollers: int) -> list[str]:
-    """``roller<j>_angle_rad`` (centre, from 12 o'clock, CCW, unwrapped) and
-    ``roller<j>_spin_rad_s`` (absolute spin, CCW +) for every roller."""
-    return [f"roller{j}_angle_rad" for j in range(n_rollers)] + [
-        f"roller{j}_spin_rad_s" for j in range(n_rollers)
+    """``roller<j>_angle_rad`` (centre, from 12 o'clock, CCW, unwrapped),
+    ``roller<j>_spin_rad_s`` (absolute spin, CCW +) and ``roller<j>_radius_m`` (distance of
+    the centre from the bearing centre: shows a roller rising into an outer-race spall)."""
+    return [
+        f"roller{j}_{q}" for q in ("angle_rad", "spin_rad_s", "radius_m") for j in range(n_rollers)
     ]
 
 
 class RollerMotionRecorder:
-    """Each roller's centre angle and spin at the end of each sample interval.
+    """Each roller's centre angle, spin and radius at the end of each sample interval.
 
     The centre is the mass centroid of the roller's nodes; the spin is
     ``sum m r x (v - v_c) / sum m |r|^2`` about it (exact for a rigid roller).
@@ -76,7 +77,7 @@ class RollerMotionRecorder:
         if self.angle is not None:
             angle = self.angle + (angle - self.angle + math.pi) % (2 * math.pi) - math.pi
         self.angle = angle
-        return np.concatenate([angle, spin])
+        return np.concatenate([angle, spin, np.hypot(c[:, 0], c[:, 1])])
 
     def state_arrays(self) -> dict[str, np.ndarray]:
         a = np.full(self.n, np.nan) if self.angle is None else self.angle

@@ -1,0 +1,113 @@
+"""The run's own checks (taichi_bearing.checks) on constructed inputs whose answers are
+known: tolerances of the static-force checks, the tone test of the numerical-noise
+check and the impulse count of the re-stressing burst."""
+
+from __future__ import annotations
+
+import numpy as np
+import pandas as pd
+import pytest
+
+from taichi_bearing.checks import (
+    flexible_reference_checks,
+    noise_check,
+    noise_frequencies,
+    passage_signature,
+    static_force_checks,
+)
+
+# a load zone like the default case's: Q_max 15 kN, a zone-edge roller at 2.5 kN
+REFERENCE = np.array([15e3, 14.5e3, 8.5e3, 2.5e3, 0.0, 0.0, 0.0, 0.0])
+
+
+def _scaled(changes: dict[int, float]) -> np.ndarray:
+    fe = REFERENCE.copy()
+    for j, f in changes.items():
+        fe[j] = f
+    return fe
+
+
+def test_each_roller_within_ten_percent_or_five_percent_of_q_max():
+    ok = flexible_reference_checks(_scaled({1: 14.5e3 * 1.09, 3: 2.5e3 + 700.0}), REFERENCE)
+    each = ok["static_roller_forces_flexible"]
+    # the zone-edge roller is 28 % off but 700 N is within 0.05 x 15 kN = 750 N
+    assert each["passed"] and each["value"] == pytest.approx(700.0 / 750.0)
+    bad_edge = flexible_reference_checks(_scaled({3: 2.5e3 + 800.0}), REFERENCE)
+    assert not bad_edge["static_roller_forces_flexible"]["passed"]
+    bad_heavy = flexible_reference_checks(_scaled({1: 14.5e3 * 1.11}), REFERENCE)
+    assert not bad_heavy["static_roller_forces_flexible"]["passed"]
+    # Q_max within 5 %
+    q = flexible_reference_checks(_scaled({0: 15e3 * 1.06}), REFERENCE)
+    assert not q["static_q_max_flexible"]["passed"]
+    assert q["static_q_max_flexible"]["value"] == pytest.approx(0.06)
+
+
+def test_rigid_ring_comparison_applies_only_to_a_housed_ring():
+    fe = _scaled({0: 15e3 * 1.5})
+    housed = static_force_checks(fe, REFERENCE, "housing")
+    assert housed["static_q_max"]["passed"] is False
+    hung = static_force_checks(fe, REFERENCE, "adapter")
+    # reported with the same value, but not a pass/fail for an adapter-hung ring
+    assert hung["static_q_max"]["value"] == pytest.approx(0.5)
+    assert hung["static_q_max"]["passed"] is None
+    assert "not applicable" in hung["static_roller_forces"]["note"]
+
+
+FS = 100e3
+PREDICTED = {"outer_raceway": 5100.0, "inner_raceway": 5120.0}
+
+
+def _noise(seconds=0.5, seed=1):
+    return np.random.default_rng(seed).normal(size=int(seconds * FS))
+
+
+def test_a_tone_at_the_predicted_frequency_passes_and_one_beside_it_fails():
+    t = np.arange(int(0.5 * FS)) / FS
+    near = _noise() + 0.5 * np.sin(2 * np.pi * 5150.0 * t)  # 1 % from the predictions
+    measured, df, prom = noise_frequencies(near, FS, PREDICTED)
+    assert measured["outer_raceway"] == pytest.approx(5150.0, abs=df)
+    assert prom["outer_raceway"] > 10.0
+    ok = noise_check(PREDICTED, measured, df, prom)
+    assert ok["passed"] and ok["value"] < 0.02
+    far = _noise() + 0.5 * np.sin(2 * np.pi * 5500.0 * t)  # 8 %, inside the 10 % band
+    measured, df, prom = noise_frequencies(far, FS, PREDICTED)
+    bad = noise_check(PREDICTED, measured, df, prom)
+    assert bad["passed"] is False and bad["value"] == pytest.approx(0.074, abs=0.005)
+
+
+def test_no_tone_is_reported_not_failed():
+    measured, df, prom = noise_frequencies(_noise(), FS, PREDICTED)
+    # white noise: the highest of ~100 bins stands a few dB over the median, not 10
+    assert all(0 < p < 10.0 for p in prom.values())
+    out = noise_check(PREDICTED, measured, df, prom)
+    assert out["passed"] is None and "no tonal peak" in out["note"]
+
+
+def _burst_history(n_impulses: int, peak: float, f0: float = 10e3):
+    """Outer force: F0, a gradual fall at 1 ms, a burst of ``n_impulses`` half-sine
+    impulses (40 us wide, 70 us apart, down to 0.2 F0 between) from 3 ms, then F0."""
+    t = np.arange(0, 6e-3, 1e-5)
+    fn = np.full_like(t, f0)
+    fall = (t >= 1e-3) & (t < 1.5e-3)
+    fn[fall] = f0 * (1 - (t[fall] - 1e-3) / 5e-4)
+    fn[(t >= 1.5e-3) & (t < 3e-3)] = 0.0
+    burst = (t >= 3e-3) & (t < 3e-3 + 7e-5 * n_impulses)
+    phase = ((t[burst] - 3e-3) % 7e-5) / 4e-5
+    fn[burst] = np.where(phase < 1, 0.2 * f0 + (peak - 0.2) * f0 * np.sin(np.pi * phase), 0.2 * f0)
+    ay = np.zeros_like(t)
+    ay[burst] = 50.0
+    hist = pd.DataFrame({"time_s": t, "roller0_outer_fn": fn, "roller0_inner_fn": fn, "s_ay": ay})
+    event = {"roller": 0, "force_before_N": f0, "entry_time_s": 1.25e-3,
+             "first_impact_time_s": 3e-3, "exit_time_s": 3.1e-3}  # fmt: skip
+    return hist, event
+
+
+@pytest.mark.parametrize("n", [1, 3, 7])
+def test_impulses_of_the_burst_are_counted(n):
+    hist, event = _burst_history(n, peak=2.0)
+    sig = passage_signature(hist, event, "s_ay", window_s=3e-4)
+    assert sig["exit_impulses"] == n
+    assert sig["exit_force_peak_ratio"] == pytest.approx(2.0, rel=0.02)
+    # the gradual fall at entry has no impulse: its peak is the static force
+    assert sig["entry_force_peak_ratio"] == pytest.approx(1.0)
+    assert sig["exit_accel_peak"] == pytest.approx(50.0)
