@@ -215,6 +215,7 @@ class Contact:
     friction_dynamic: float
     friction_decay: float  # s/m
     damping_ratio: float
+    smoothing: bool = True  # contact against each segment's reference arc, not its chord
 
 
 @dataclass(frozen=True)
@@ -413,6 +414,7 @@ SCHEMA: dict[str, tuple[type, tuple[Key, ...]]] = {
             Key("friction_dynamic", float, **NONNEG),
             Key("friction_decay_s_m", float, **NONNEG),
             Key("damping_ratio", float, lo=0.0, hi=1.0),
+            Key("smoothing", bool, default=True),
         ),
     ),
     "cage": (

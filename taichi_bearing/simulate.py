@@ -32,7 +32,7 @@ from taichi_bearing.output.summary import write_summary
 from taichi_bearing.recorders import CageRecorder, ContactForceRecorder, RollerMotionRecorder
 from taichi_bearing.starter import Setup, align_rollers, build_setup
 
-__all__ = ["BearingModel", "build_model", "run_case", "preload", "stage_mesh"]
+__all__ = ["BearingModel", "build_model", "preload", "recheck_run", "run_case", "stage_mesh"]
 
 PRELOAD_FILE = "preload.json"
 
@@ -314,6 +314,43 @@ def run_case(
         write_summary(out, summary)
     failed = [k for k, c in summary["checks"].items() if c["passed"] is False]
     say(f"checks: {len(summary['checks']) - len(failed)} passed, failed: {failed or 'none'}")
+    return summary
+
+
+def recheck_run(out_dir: str | Path, *, post: bool = True, say=print) -> dict:
+    """Redo the checks (and figures and report) of a finished run from its folder.
+
+    The simulation is not rerun: the case is read from the folder's ``case.yaml``, the
+    mesh rebuilt for its spall geometry and edge counts, the histories and the preload
+    read from disk. What the run measured (steps, times) is kept from ``summary.json``.
+
+    Raises
+    ------
+    InputError
+        If the folder lacks a finished run's files.
+    """
+    from taichi_bearing.case import load_case
+    from taichi_bearing.checks import run_checks
+    from taichi_bearing.mesh import build_bearing_mesh, spec_from_case
+
+    out = Path(out_dir)
+    needed = ("case.yaml", PRELOAD_FILE, "summary.json", "histories.parquet")
+    missing = [n for n in needed if not (out / n).is_file()]
+    if missing:
+        raise InputError(f"{out}: not a run folder (missing {', '.join(missing)})")
+    summary = json.loads((out / "summary.json").read_text())
+    if summary.get("status") != "finished":
+        raise InputError(f"{out}: the run did not finish (status {summary.get('status')})")
+    case = load_case(out / "case.yaml")
+    mesh = build_bearing_mesh(spec_from_case(case))
+    pre = json.loads((out / PRELOAD_FILE).read_text())
+    t0 = time.perf_counter()
+    summary.update(run_checks(case, mesh.info, read_histories(out), pre))
+    write_summary(out, summary)
+    if post:
+        _figures_and_report(out, say)
+    summary.setdefault("stage_times_s", {})["post"] = time.perf_counter() - t0
+    write_summary(out, summary)
     return summary
 
 

@@ -108,3 +108,30 @@ def test_rolling_polygon_disk_has_no_facet_ripple_with_smoothing():
     assert ripple < 0.15
     assert mean == pytest.approx(load, rel=0.02)
     assert result[False][1] > 1.0
+
+
+def test_no_contact_beyond_the_end_of_a_corner_segment():
+    """A 0.2 mm wall (like a spall's edge) and a 12 mm roller whose steep flank passes
+    0.2 mm in front of the wall's line and 0.3-0.6 mm below its end: nothing touches.
+    (The arc patch of a roller node must not reach the wall's line beyond the wall.)"""
+    radius = 0.012
+    wall = rectangle_mesh(0.004, 0.0002, 8, 1)  # left face: one 0.2 mm segment at x = 0
+    disk = disk_mesh(radius, 150, n_layers=3)
+    params = ContactParameters(smoothing=True)
+    # the roller's outward normal at its point P = (-0.2 mm, y) is (-0.327, 0.944)
+    normal = np.array([-0.327, 0.944]) / np.hypot(0.327, 0.944)
+    mesh = merge_meshes({"disk": disk, "wall": wall})
+    model = Model(mesh, STEEL)
+    contact = PenaltyContact(model, [ContactPair("w", "disk.outer", "wall.left")], params)
+    ids = np.unique(mesh.elements[mesh.element_part == mesh.part_id("disk")])
+    forces = []
+    shifts = np.linspace(-0.25e-3, 0.25e-3, 11)  # slide P along the flank
+    for y, shift in [(y, s) for y in (-0.3e-3, -0.6e-3) for s in shifts]:
+        p = np.array([-0.2e-3, y]) + shift * np.array([normal[1], -normal[0]])
+        x = np.asarray(mesh.nodes, dtype=float).copy()
+        x[ids] += p - radius * normal
+        model.set_state(x=x)
+        contact.add_forces(model, 0.0)
+        forces.append(np.abs(contact.current_resultants()).max())
+    # the closest points are 0.2 mm and more apart: no force at any position
+    assert max(forces) == 0.0

@@ -50,6 +50,7 @@ from taichi_bearing.solver.contact_setup import (
     grid_spec,
     query_neighbours,
     segment_curvature,
+    segment_end_corners,
     segment_stiffness,
 )
 from taichi_bearing.solver.model import Model
@@ -144,6 +145,7 @@ class PenaltyContact:
         if params.smoothing:
             kappa = segment_curvature(mesh.nodes, segs, seg_surf)
         self.seg_kappa_np = kappa
+        corner_a, corner_b = segment_end_corners(mesh.nodes, segs, seg_surf)
         track = np.unique(np.concatenate([q_node, segs.ravel()])).astype(np.int32)
         X = np.asarray(mesh.nodes, dtype=float)
         lengths = np.linalg.norm(X[segs[:, 1]] - X[segs[:, 0]], axis=1)
@@ -179,6 +181,7 @@ class PenaltyContact:
         self.seg_surf = f(ti.i32, shape=nseg)
         self.seg_k = f(ti.f64, shape=nseg)
         self.seg_kappa = f(ti.f64, shape=nseg)  # reference arc curvature, 0: straight
+        self.seg_corner = f(ti.i32, shape=nseg)  # bit 0: start (a) is a corner, bit 1: end
         self.track = f(ti.i32, shape=len(track))
         self.x_ref = v2(len(track))
         self.cell_start = f(ti.i32, shape=g.n_cells + 1)
@@ -211,6 +214,7 @@ class PenaltyContact:
         self.seg_surf.from_numpy(seg_surf)
         self.seg_k.from_numpy(k_seg)
         self.seg_kappa.from_numpy(kappa)
+        self.seg_corner.from_numpy((corner_a.astype(np.int32) + 2 * corner_b).astype(np.int32))
         self.track.from_numpy(track)
         self.n_samples = 0
         self.rebuilds = 0
@@ -404,12 +408,35 @@ class PenaltyContact:
         u = xa - xb
         un = u.norm()
         b = 0.0
+        # The patch point at r is xp + r u/|u|; its projection on the chord moves by
+        # g r. At a corner end (a spall edge) the segment's surface stops: only the
+        # part of the patch that projects inside counts (the rest faces the wall or
+        # the void; the other pass catches a corner pressing into this surface).
+        lo, hi = -h, h
         if un > 0.0:
             b = u.dot(nv) / un
+            d = x[self.seg_b[s]] - x[self.seg_a[s]]
+            g = u.dot(d) / (un * d.dot(d))
+            corner = self.seg_corner[s]
+            if corner & 1:
+                if g > 0.0:
+                    lo = ti.max(lo, -xi_raw / g)
+                elif g < 0.0:
+                    hi = ti.min(hi, -xi_raw / g)
+                elif xi_raw < 0.0:
+                    hi = lo
+            if corner & 2:
+                if g > 0.0:
+                    hi = ti.min(hi, (1.0 - xi_raw) / g)
+                elif g < 0.0:
+                    lo = ti.max(lo, (1.0 - xi_raw) / g)
+                elif xi_raw > 1.0:
+                    hi = lo
+        hi = ti.max(hi, lo)
         c = self.q_kappa[q] + self.seg_kappa[s]
-        # Roots of p: A r^2 + B r + C = 0 (numerically stable form), clipped to [-h, h].
+        # Roots of p: A r^2 + B r + C = 0 (numerically stable form), clipped to [lo, hi].
         A, B, C = 0.5 * c, b, -pen0
-        r1, r2 = h, h
+        r1, r2 = hi, hi
         disc = B * B - 4.0 * A * C
         if disc >= 0.0:
             qq = -0.5 * (B + ti.sqrt(disc)) if B >= 0.0 else -0.5 * (B - ti.sqrt(disc))
@@ -418,29 +445,31 @@ class PenaltyContact:
                 rb = ra
                 if ti.abs(A) > 0.0:
                     rb = qq / A
-                r1 = ti.min(ti.max(ti.min(ra, rb), -h), h)
-                r2 = ti.min(ti.max(ti.max(ra, rb), -h), h)
+                r1 = ti.min(ti.max(ti.min(ra, rb), lo), hi)
+                r2 = ti.min(ti.max(ti.max(ra, rb), lo), hi)
         i1, i2 = 0.0, 0.0
-        pmax = pen0
-        e = ti.Vector([-h, r1, r2, h])
-        g = ti.sqrt(0.6)
+        e = ti.Vector([lo, r1, r2, hi])
+        g3 = ti.sqrt(0.6)
         for k in ti.static(range(3)):
-            lo, hi = e[k], e[k + 1]
-            mid, half = 0.5 * (lo + hi), 0.5 * (hi - lo)
+            a3, b3 = e[k], e[k + 1]
+            mid, half = 0.5 * (a3 + b3), 0.5 * (b3 - a3)
             if half > 0.0:
                 pm = pen0 - mid * (b + 0.5 * c * mid)
                 if pm > 0.0:
                     for j in ti.static(range(3)):
-                        r = mid + half * g * (j - 1)
+                        r = mid + half * g3 * (j - 1)
                         pr = pen0 - r * (b + 0.5 * c * r)
                         wgt = half * (8.0 / 9.0 if j == 1 else 5.0 / 9.0)
                         i1 += wgt * pr
                         i2 += wgt * pr * pr
-        # Largest p: at an end of the patch or at its vertex inside.
-        pmax = ti.max(pmax, ti.max(pen0 - h * (b + 0.5 * c * h), pen0 + h * (b - 0.5 * c * h)))
-        if c > 0.0:
-            rv = ti.min(ti.max(-b / c, -h), h)
-            pmax = ti.max(pmax, pen0 - rv * (b + 0.5 * c * rv))
+        # Largest p over [lo, hi]: at an end or at the parabola's vertex inside (an empty
+        # patch: nothing, so no contact).
+        pmax = -1.0
+        if hi > lo:
+            pmax = ti.max(pen0 - lo * (b + 0.5 * c * lo), pen0 - hi * (b + 0.5 * c * hi))
+            if c > 0.0:
+                rv = ti.min(ti.max(-b / c, lo), hi)
+                pmax = ti.max(pmax, pen0 - rv * (b + 0.5 * c * rv))
         w = 2.0 * h
         return i1 / w, 0.5 * i2 / w, pmax
 

@@ -18,6 +18,7 @@ __all__ = [
     "grid_spec",
     "query_neighbours",
     "segment_curvature",
+    "segment_end_corners",
     "segment_elements",
     "segment_stiffness",
 ]
@@ -157,6 +158,44 @@ def _vertex_curvature(p: np.ndarray, a: np.ndarray, b: np.ndarray) -> np.ndarray
     return 2.0 * cross / norm
 
 
+def _chain_neighbours(segs: np.ndarray, surface: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Index of the previous and the next segment of each segment along its surface's
+    chain (-1 at an open end)."""
+    n = len(segs)
+    prev = np.full(n, -1)
+    nxt = np.full(n, -1)
+    by_start = {(int(surface[k]), int(a)): k for k, (a, _) in enumerate(segs)}
+    for k, (_, b) in enumerate(segs):
+        j = by_start.get((int(surface[k]), int(b)), -1)
+        if j >= 0 and j != k:
+            nxt[k] = j
+            prev[j] = k
+    return prev, nxt
+
+
+def segment_end_corners(
+    nodes: np.ndarray, segments: np.ndarray, surface: np.ndarray, max_turn: float = 0.2
+) -> tuple[np.ndarray, np.ndarray]:
+    """Whether each segment's start (a) and end (b) is a corner: an open end, or a vertex
+    where the surface turns by more than ``max_turn`` radians (a spall's edges).
+
+    Contact against a segment's arc stops at a corner: beyond it the body's surface goes
+    elsewhere (along a smooth surface the next segment carries on, nearly in line).
+    """
+    segs = np.asarray(segments, dtype=np.int64)
+    X = np.asarray(nodes, dtype=float)
+    prev, nxt = _chain_neighbours(segs, surface)
+    d = X[segs[:, 1]] - X[segs[:, 0]]
+    ang = np.arctan2(d[:, 1], d[:, 0])
+
+    def turn(j):  # angle between segment j's neighbour and the segment itself
+        other = np.where(j >= 0, j, 0)
+        t = np.abs((ang[other] - ang + np.pi) % (2 * np.pi) - np.pi)
+        return np.where(j >= 0, t, np.inf)
+
+    return turn(prev) > max_turn, turn(nxt) > max_turn
+
+
 def segment_curvature(
     nodes: np.ndarray,
     segments: np.ndarray,
@@ -179,14 +218,7 @@ def segment_curvature(
     segs = np.asarray(segments, dtype=np.int64)
     X = np.asarray(nodes, dtype=float)
     n = len(segs)
-    prev = np.full(n, -1)
-    nxt = np.full(n, -1)
-    by_start = {(int(surface[k]), int(a)): k for k, (a, _) in enumerate(segs)}
-    for k, (_, b) in enumerate(segs):
-        j = by_start.get((int(surface[k]), int(b)), -1)
-        if j >= 0 and j != k:
-            nxt[k] = j
-            prev[j] = k
+    prev, nxt = _chain_neighbours(segs, surface)
     ok = (prev >= 0) & (nxt >= 0)
     kappa = np.zeros(n)
     if not ok.any():
