@@ -4,7 +4,8 @@ Everything comes from the run's files (``summary.json``, histories): the squared
 spectrum level of the analysed sensor acceleration at BPFO, and the contact forces of each
 roller that passed the spall (``summary["events"]``) on the outer and inner raceway: their
 peak and the maximum of their Hilbert envelope about the force before the spall, and the
-re-stressing impulse (largest outer force just after the roller meets the exit edge).
+re-stressing impulse (largest force on the roller, either raceway, in the re-stressing
+burst after it meets the exit edge: the window of :data:`taichi_bearing.checks.EXIT_BURST_S`).
 """
 
 from __future__ import annotations
@@ -15,6 +16,7 @@ import os
 import numpy as np
 
 from diagnostics.envelope import envelope
+from taichi_bearing.checks import EXIT_BURST_S
 
 __all__ = ["METRICS", "cell_metrics", "envelope_level_at"]
 
@@ -30,7 +32,7 @@ METRICS: dict[str, tuple[str, str]] = {
     "outer_env_max_N": ("outer-raceway force envelope maximum", "N"),
     "inner_peak_N": ("inner-raceway force peak, rollers through the spall", "N"),
     "inner_env_max_N": ("inner-raceway force envelope maximum", "N"),
-    "restress_peak_N": ("re-stressing impulse (outer force peak at the exit edge)", "N"),
+    "restress_peak_N": ("re-stressing burst peak (either raceway, after the exit edge)", "N"),
     "static_outer_N": ("outer force of the roller before the spall", "N"),
     "max_outer_fn_N": ("largest outer-raceway force, all rollers, whole record", "N"),
     "max_inner_fn_N": ("largest inner-raceway force, all rollers, whole record", "N"),
@@ -74,10 +76,13 @@ def _passage_forces(hist, event: dict) -> dict[str, float]:
         env = envelope(fn - ref, fs)
         out[f"{race}_peak_N"] = float(fn[win].max()) if win.any() else math.nan
         out[f"{race}_env_max_N"] = float(env[win].max()) if win.any() else math.nan
-    fn = hist[f"roller{j}_outer_fn"].to_numpy(dtype=float)
+    both = np.maximum(
+        hist[f"roller{j}_outer_fn"].to_numpy(dtype=float),
+        hist[f"roller{j}_inner_fn"].to_numpy(dtype=float),
+    )
     hit = float(event.get("first_impact_time_s", leave))
-    rs = _window(t, hit, hit + WINDOW_S)
-    out["restress_peak_N"] = float(fn[rs].max()) if rs.any() else math.nan
+    rs = _window(t, hit, hit + max(WINDOW_S, EXIT_BURST_S))
+    out["restress_peak_N"] = float(both[rs].max()) if rs.any() else math.nan
     out["static_outer_N"] = float(event.get("force_before_N", math.nan))
     return out
 
@@ -100,7 +105,12 @@ def cell_metrics(run_dir: str | os.PathLike) -> dict[str, float]:
     m: dict[str, float] = dict.fromkeys(METRICS, math.nan)
     m["bpfo_hz"] = run.bpfo_hz
     m["periods"] = float((t[-1] - t[0] + 1.0 / run.fs) * run.bpfo_hz)
-    m["env_bpfo"] = envelope_level_at(x, run.fs, run.bpfo_hz)
+    # the last whole number of BPFO periods (no leakage; the start-up left out); a
+    # record shorter than one period does not resolve BPFO: NaN
+    whole = int(m["periods"])
+    if whole >= 1:
+        n = int(round(whole * run.fs / run.bpfo_hz))
+        m["env_bpfo"] = envelope_level_at(x[-n:], run.fs, run.bpfo_hz)
     m["accel_peak"] = float(np.max(np.abs(x - np.median(x))))
     outer = [c for c in hist.columns if c.endswith("_outer_fn")]
     inner = [c for c in hist.columns if c.endswith("_inner_fn")]

@@ -33,7 +33,7 @@ SETS = (
 # Both engines give each case 1 Taichi thread here (2 cores, 2 concurrent cases), but
 # atomic-add order is not promised to be reproducible: forces are compared to 1e-6
 # relative, accelerations (a difference of velocities, more sensitive) to 1e-5.
-RTOL = {"max_outer_fn_N": 1e-6, "max_inner_fn_N": 1e-6, "accel_peak": 1e-5, "env_bpfo": 1e-5}
+RTOL = {"max_outer_fn_N": 1e-6, "max_inner_fn_N": 1e-6, "accel_peak": 1e-5}
 
 
 def _sweep_argv(out: Path, *extra: str) -> list[str]:
@@ -71,6 +71,8 @@ def test_pool_sweep_finishes_every_cell(pool_sweep):
     for speed in (900.0, 1000.0):
         f = df[df["speed_rpm"] == speed].set_index("load_kN")["max_outer_fn_N"]
         assert 1.6 < f[40.0] / f[20.0] < 2.4
+    # 0.1 ms records hold a fraction of a BPFO period: the level at BPFO is not resolved
+    assert (df["periods"] < 1).all() and df["env_bpfo"].isna().all()
     assert (out / "sweep_report.md").is_file()
     assert (out / "sweep_increase.csv").is_file()
     assert (out / "figures" / "sweep_outer_forces.png").stat().st_size > 0

@@ -176,6 +176,7 @@ class PenaltyContact:
         self.q_gap = f(ti.f64, shape=nq)  # last gap (negative: penetration)
         self.q_en = f(ti.f64, shape=nq)  # normal penalty energy stored
         self.q_et = f(ti.f64, shape=nq)  # tangential spring energy stored
+        self.q_active = f(ti.i32, shape=nq)  # queries near a paired segment, in order
         self.seg_a = f(ti.i32, shape=nseg)
         self.seg_b = f(ti.i32, shape=nseg)
         self.seg_surf = f(ti.i32, shape=nseg)
@@ -188,7 +189,7 @@ class PenaltyContact:
         self.cell_fill = f(ti.i32, shape=g.n_cells)
         self.cell_items = f(ti.i32, shape=self.cap)
         self.cell_surf = f(ti.i32, shape=self.cap)  # surface of each item (contiguous read)
-        self.status = f(ti.i32, shape=2)  # 0: overflow flag
+        self.status = f(ti.i32, shape=2)  # 0: overflow flag, 1: active query count
         self.motion = f(ti.f64, shape=2)  # largest move since the build, largest speed
         self.node_force = v2(model.n_nodes)  # contact force on each node, last step
         self.cur = ti.Vector.field(4, ti.f64, shape=self.n_pairs)
@@ -218,6 +219,7 @@ class PenaltyContact:
         self.track.from_numpy(track)
         self.n_samples = 0
         self.rebuilds = 0
+        self.n_active = nq  # queries the contact loop visits (set at each grid build)
         self._built = False
         self._countdown = 0
         # Constants baked into this instance's kernels (fewer launch arguments).
@@ -276,6 +278,41 @@ class PenaltyContact:
             self.x_ref[t] = x[self.track[t]]
 
     @ti.kernel
+    def _k_activate(self, x: ti.template()):
+        """List, in query order, the queries with a segment of a paired surface in their
+        cell or a neighbouring one. Until the next build no node moves further than a
+        quarter of the margin (less than a cell), and segments stay binned where they
+        were: a query left out cannot find a candidate, so skipping it changes nothing.
+        A query left out while still holding a contact state is opened, as the contact
+        loop would do at its next call."""
+        nx, ny = self._nx, self._ny
+        ti.loop_config(serialize=True)  # ordered, reproducible list
+        for _ in range(1):
+            n = 0
+            for q in range(self.n_query):
+                S = self.q_surf[q]
+                cx, cy = self._cell_xy(x[self.q_node[q]])
+                near = 0
+                for oy in range(ti.max(cy - 1, 0), ti.min(cy + 2, ny)):
+                    for ox in range(ti.max(cx - 1, 0), ti.min(cx + 2, nx)):
+                        c = oy * nx + ox
+                        for k in range(self.cell_start[c], self.cell_start[c + 1]):
+                            if self.pass_pair[S * self.n_surf + self.cell_surf[k]] >= 0:
+                                near = 1
+                if near != 0:
+                    self.q_active[n] = q
+                    n += 1
+                elif self.q_seg[q] >= 0:
+                    self.diss[0] += self.q_et[q]
+                    self.q_seg[q] = -1
+                    self.q_ft[q] = 0.0
+                    self.q_fn[q] = 0.0
+                    self.q_gap[q] = 0.0
+                    self.q_en[q] = 0.0
+                    self.q_et[q] = 0.0
+            self.status[1] = n
+
+    @ti.kernel
     def _k_motion(self, x: ti.template(), v: ti.template()):
         self.motion[0] = 0.0
         self.motion[1] = 0.0
@@ -301,10 +338,17 @@ class PenaltyContact:
         steps = (half - moved) / (4.0 * max(speed, 1e-30) * model.dt)
         self._countdown = int(min(max(steps, 1.0), 1000.0))
 
+    def after_state_load(self) -> None:
+        """After a checkpoint is loaded: rebuild the search grid and the active query
+        list at the next call (a checkpoint from before the list existed has none)."""
+        self._built = False
+
     def _rebuild(self, model: Model) -> None:
         self._k_build(model.x)
         if int(self.status[0]):
             raise RuntimeError("contact search grid overflow: segments far larger than meshed")
+        self._k_activate(model.x)
+        self.n_active = int(self.status[1])
         self.rebuilds += 1
         self._built = True
 
@@ -323,7 +367,8 @@ class PenaltyContact:
             self.cur[p] = ti.Vector.zero(ti.f64, 4)
         for t in range(self.n_track):
             self.node_force[self.track[t]] = ti.Vector.zero(ti.f64, 2)
-        for q in range(self.n_query):
+        for qa in range(self.status[1]):
+            q = self.q_active[qa]
             i = self.q_node[q]
             S = self.q_surf[q]
             xp = x[i]

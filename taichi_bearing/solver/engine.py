@@ -72,7 +72,8 @@ def object_state(obj) -> dict[str, np.ndarray]:
 
 
 def load_object_state(obj, arrays: dict[str, np.ndarray]) -> None:
-    """Restore what :func:`object_state` saved."""
+    """Restore what :func:`object_state` saved (then ``obj.after_state_load()`` if the
+    object has one)."""
     if hasattr(obj, "load_state_arrays"):
         obj.load_state_arrays(arrays)
         return
@@ -82,6 +83,8 @@ def load_object_state(obj, arrays: dict[str, np.ndarray]) -> None:
             cur.from_numpy(np.asarray(a))
         else:
             setattr(obj, name, type(cur)(np.asarray(a).item()))
+    if hasattr(obj, "after_state_load"):  # e.g. derived search structures to rebuild
+        obj.after_state_load()
 
 
 def _stateful(model: Model, recorders: Sequence) -> dict[str, object]:
