@@ -277,6 +277,17 @@ class PenaltyContact:
         for t in range(self.n_track):
             self.x_ref[t] = x[self.track[t]]
 
+    @ti.func
+    def _open(self, q):
+        """No contact: the tangential spring's energy is lost (counted as friction)."""
+        self.diss[0] += self.q_et[q]
+        self.q_seg[q] = -1
+        self.q_ft[q] = 0.0
+        self.q_fn[q] = 0.0
+        self.q_gap[q] = 0.0
+        self.q_en[q] = 0.0
+        self.q_et[q] = 0.0
+
     @ti.kernel
     def _k_activate(self, x: ti.template()):
         """List, in query order, the queries with a segment of a paired surface in their
@@ -303,13 +314,7 @@ class PenaltyContact:
                     self.q_active[n] = q
                     n += 1
                 elif self.q_seg[q] >= 0:
-                    self.diss[0] += self.q_et[q]
-                    self.q_seg[q] = -1
-                    self.q_ft[q] = 0.0
-                    self.q_fn[q] = 0.0
-                    self.q_gap[q] = 0.0
-                    self.q_en[q] = 0.0
-                    self.q_et[q] = 0.0
+                    self._open(q)
             self.status[1] = n
 
     @ti.kernel
@@ -410,14 +415,7 @@ class PenaltyContact:
             if best_pen <= 0.0 or best_pen >= self._capture:
                 best = -1
             if best < 0:
-                # Open: the tangential spring's energy is lost (counted as friction).
-                self.diss[0] += self.q_et[q]
-                self.q_seg[q] = -1
-                self.q_ft[q] = 0.0
-                self.q_fn[q] = 0.0
-                self.q_gap[q] = 0.0
-                self.q_en[q] = 0.0
-                self.q_et[q] = 0.0
+                self._open(q)
             else:
                 self._apply(q, i, S, best, pen_eff, e_el, best_xi, x, v, mass, f_ext, dt)
         for p in range(self.n_pairs):
