@@ -135,3 +135,28 @@ def test_no_contact_beyond_the_end_of_a_corner_segment():
         forces.append(np.abs(contact.current_resultants()).max())
     # the closest points are 0.2 mm and more apart: no force at any position
     assert max(forces) == 0.0
+
+
+def test_a_convex_corner_does_not_reach_out_along_its_diagonal():
+    """The corner of a block (like a spall's edge) 0.1 mm from a 12 mm roller: nothing
+    touches. (A corner node's contact patch must follow the two faces, not the diagonal
+    between its neighbours, which would stand 0.1 mm proud of the surface.)"""
+    radius = 0.012
+    block = rectangle_mesh(0.004, 0.004, 8, 8, origin=(-0.004, -0.004))  # corner at (0, 0)
+    n_right = len(block.surfaces["right"])
+    # one surface running up the right face and on along the top: the corner joins them
+    block.surfaces["corner"] = np.concatenate([block.surfaces["right"], block.surfaces["top"]])
+    params = ContactParameters(smoothing=True)
+    forces = []
+    for gap, angle in [(1e-4, a) for a in np.radians([-6.0, -3.0, 0.0, 3.0])]:
+        disk = disk_mesh(radius, 150, n_layers=3)
+        direction = np.array([np.cos(angle), np.sin(angle)])
+        disk.nodes = disk.nodes + (radius + gap) * direction
+        mesh = merge_meshes({"disk": disk, "block": block})
+        model = Model(mesh, STEEL)
+        pair = ContactPair("c", "block.corner", "disk.outer")
+        contact = PenaltyContact(model, [pair], params)
+        contact.add_forces(model, 0.0)
+        forces.append(np.abs(contact.current_resultants()).max())
+    assert n_right == 8
+    assert max(forces) == 0.0

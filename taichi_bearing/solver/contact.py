@@ -48,6 +48,7 @@ from taichi_bearing.solver.contact_setup import (
     ContactPair,
     ContactParameters,
     grid_spec,
+    query_corners,
     query_neighbours,
     segment_curvature,
     segment_end_corners,
@@ -169,6 +170,7 @@ class PenaltyContact:
         self.q_prev = f(ti.i32, shape=nq)  # neighbours along the query's own surface
         self.q_next = f(ti.i32, shape=nq)
         self.q_kappa = f(ti.f64, shape=nq)  # reference curvature of its surface there
+        self.q_corner = f(ti.i32, shape=nq)  # 1: a corner of its surface (point contact)
         self.q_hmax = f(ti.f64, shape=nq)  # 1.5 x half the reference tributary length
         self.q_seg = f(ti.i32, shape=nq)  # segment in contact, -1 open
         self.q_ft = f(ti.f64, shape=nq)  # tangential spring force along the segment
@@ -203,6 +205,7 @@ class PenaltyContact:
         self.q_prev.from_numpy(q_prev)
         self.q_next.from_numpy(q_next)
         self.q_kappa.from_numpy(q_kappa)
+        self.q_corner.from_numpy(query_corners(mesh.nodes, q_node, q_prev, q_next).astype(np.int32))
         Xq = np.asarray(mesh.nodes, dtype=float)
         half = 0.25 * (
             np.linalg.norm(Xq[q_node] - Xq[q_prev], axis=1)
@@ -406,12 +409,17 @@ class PenaltyContact:
             pen_eff = best_pen
             e_el = 0.0
             if ti.static(self._smooth):
-                # Most queries are far from contact: skip the patch when even a patch of
-                # 1.5x the reference size, tilted 90 degrees, could not reach the arc.
-                hq = self.q_hmax[q]
-                reach = hq * (1.0 + 0.5 * ti.abs(self.q_kappa[q] + self.seg_kappa[best]) * hq)
-                if best >= 0 and best_pen + reach > 0.0:
-                    pen_eff, e_el, best_pen = self._patch(q, i, best, best_pen, best_xi, x)
+                if self.q_corner[q] != 0:
+                    # A corner of its own surface (a spall's edge): a point contact.
+                    e_el = 0.5 * ti.max(best_pen, 0.0) ** 2
+                else:
+                    # Most queries are far from contact: skip the patch when even a patch
+                    # of 1.5x the reference size, tilted 90 degrees, could not reach.
+                    hq = self.q_hmax[q]
+                    kap = ti.abs(self.q_kappa[q] + self.seg_kappa[best])
+                    reach = hq * (1.0 + 0.5 * kap * hq)
+                    if best >= 0 and best_pen + reach > 0.0:
+                        pen_eff, e_el, best_pen = self._patch(q, i, best, best_pen, best_xi, x)
             if best_pen <= 0.0 or best_pen >= self._capture:
                 best = -1
             if best < 0:

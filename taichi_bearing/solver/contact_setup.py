@@ -17,6 +17,7 @@ __all__ = [
     "PENALTY_METHODS",
     "grid_spec",
     "query_neighbours",
+    "query_corners",
     "segment_curvature",
     "segment_end_corners",
     "segment_elements",
@@ -280,6 +281,28 @@ def grid_spec(
     nx = max(1, math.ceil(ext[0] / cell))
     ny = max(1, math.ceil(ext[1] / cell))
     return GridSpec((float(lo[0]), float(lo[1])), cell, nx, ny, capture, margin)
+
+
+def query_corners(
+    nodes: np.ndarray,
+    q_node: np.ndarray,
+    q_prev: np.ndarray,
+    q_next: np.ndarray,
+    max_turn: float = 0.2,
+) -> np.ndarray:
+    """Whether each query node is a corner of its own surface: its two segments turn by
+    more than ``max_turn`` radians there (a spall's edges). Open ends are not corners.
+
+    A corner's tributary patch would run along the chord between its neighbours, which
+    cuts across the corner and stands out of the body; it contacts as a point instead.
+    """
+    X = np.asarray(nodes, dtype=float)
+    a = X[q_node] - X[q_prev]
+    b = X[q_next] - X[q_node]
+    la, lb = np.linalg.norm(a, axis=1), np.linalg.norm(b, axis=1)
+    both = (la > 0) & (lb > 0)
+    cos = np.einsum("ij,ij->i", a, b) / np.where(both, la * lb, 1.0)
+    return both & (np.arccos(np.clip(cos, -1.0, 1.0)) > max_turn)
 
 
 def query_neighbours(
