@@ -152,7 +152,8 @@ def test_entry_and_exit_happen_where_the_geometry_puts_them(coarse_run):
     rise = min(radius[inside].max() - radius[0], d)
     assert rise > 0  # the roller lifts into the notch (centrifugal force)
     lead = math.sqrt(2 * r * (d - rise)) / speed
-    tol = float(np.median(np.diff(t)))
+    # two samples (0.1 mm of travel): the geometry takes the roller and corner as rigid
+    tol = 2 * float(np.median(np.diff(t)))
     assert t_exit_edge - lead - tol <= ev["first_impact_time_s"] <= t_exit_edge + tol
 
 
@@ -178,8 +179,8 @@ def test_resume_continues_like_the_uninterrupted_run(coarse_run, tmp_path):
 
 def test_exit_force_returns_as_several_impulses_above_the_static_force(coarse_run):
     """The re-stressing burst: the roller bounces between the exit edge and the inner
-    raceway. Measured: 12 impulses in the millisecond after the first impact, peaks up to
-    2.2 F0 (inner raceway) and 1.8 F0 (outer), against 1.08 F0 at entry."""
+    raceway. Measured: 13 impulses in the millisecond after the first impact, peak
+    2.5 F0, against 1.14 F0 at entry."""
     _, _, summary, _ = coarse_run
     ev = summary["events"][0]
     assert ev["exit_impulses"] >= 3
@@ -188,8 +189,9 @@ def test_exit_force_returns_as_several_impulses_above_the_static_force(coarse_ru
 
 
 def test_preload_q_max_matches_the_flexible_ring_reference(coarse_run):
-    """Measured: 15.86 kN against 15.45 kN (+2.7 %). (12 % before the arc patch was
-    stopped at the spall's corners: roller 0's flank touched the entry wall's line.)"""
+    """Measured: 15.30 kN against 15.45 kN (-1.0 %). (+12 % while contact patches ran
+    past the spall's corners: a roller's flank touched the entry wall's line, and the
+    corner node's patch stood out of the raceway.)"""
     _, _, summary, _ = coarse_run
     static = np.asarray(summary["static_roller_forces_N"])
     reference = np.asarray(summary["reference_roller_forces_N"])
