@@ -46,6 +46,7 @@ ENERGY_LIMIT = 0.02
 NOISE_LIMIT = 0.05
 TONE_DB = 10.0  # a spectral peak this far above its band's median is a tone
 DEFECT_SIZE_LIMIT = 0.5
+DEFECT_ENTRY_CUTOFF_SHARE = 0.125  # entry low-pass cut-off / exit band's lower edge
 EXIT_BURST_LIMIT = 2.0
 RESTRESS_MEAN_S = 1e-4  # averaging time of the re-stressing force, s
 PASSAGE_WINDOW_M = 1.5e-3  # contact travel of the entry and exit windows, m
@@ -515,6 +516,8 @@ def defect_size_check(case: Case, signal: np.ndarray, fs: float) -> tuple[dict, 
             case.operating.shaft_hz,
             case.defect.race,
             depth_m=case.defect.depth,
+            # the FE roller de-stresses gradually (over ~0.4 ms on the default case)
+            entry_cutoff_share=DEFECT_ENTRY_CUTOFF_SHARE,
         )
     except ValueError as exc:
         return check(None, DEFECT_SIZE_LIMIT, None, f"not estimated: {exc}"), None
