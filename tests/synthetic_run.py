@@ -159,6 +159,7 @@ def make_synthetic_run(
         "energy_balance_error": 0.07,
         "static_roller_forces_N": static,
         "analytical_roller_forces_N": analytical,
+        "reference_roller_forces_N": static * 0.98,
         "cage_speed_rel_error": 0.011,
         "bpfo_hz": freqs.bpfo,
         "ftf_hz": freqs.ftf,

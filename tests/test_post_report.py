@@ -61,6 +61,10 @@ def test_static_forces_and_errors_equal_the_summary(report):
         assert float(cells[3].rstrip(" %")) == pytest.approx(
             100 * (sim[j] - ana[j]) / ana[j], abs=0.006
         )
+        # the flexible-ring reference beside it
+        ref = summary["reference_roller_forces_N"][j]
+        assert cells[4] == fmt(ref)
+        assert float(cells[5].rstrip(" %")) == pytest.approx(100 * (sim[j] - ref) / ref, abs=0.006)
     assert _row(md, "10")[3] == "unloaded"
 
 

@@ -126,12 +126,14 @@ def sensor_acceleration(run: RunData, sensor: str | None = None) -> tuple[np.nda
 
 
 def passage_events(summary: dict) -> list[dict]:
-    """Spall passages ``{roller, entry_time_s, exit_time_s}``, from ``events`` or, failing
+    """Spall passages ``{roller, entry_time_s, exit_time_s}`` (with the run's other event
+    entries, e.g. ``first_impact_time_s``, ``exit_impulses``), from ``events`` or, failing
     that, from ``entry_times_s`` / ``restress_times_s`` paired in order (roller unknown)."""
     events = summary.get("events")
     if events:
         return [
             {
+                **e,
                 "roller": e.get("roller"),
                 "entry_time_s": _num(e.get("entry_time_s")),
                 "exit_time_s": _num(e.get("exit_time_s")),
