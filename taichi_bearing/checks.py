@@ -386,7 +386,8 @@ def exit_burst_check(signatures: list[dict]) -> dict:
         EXIT_BURST_LIMIT,
         worst >= EXIT_BURST_LIMIT,
         "smallest ratio of the exit acceleration peak to the larger of the entry and "
-        "traverse (floor impact) peaks; must be at least the limit",
+        "traverse (floor impact) peaks; must be at least the limit; per passage: "
+        + ", ".join(f"{r:.3g}" for r in ratios),
     )
 
 
