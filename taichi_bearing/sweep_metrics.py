@@ -21,7 +21,8 @@ from taichi_bearing.checks import EXIT_BURST_S
 __all__ = ["METRICS", "cell_metrics", "envelope_level_at"]
 
 # Passage window: from this long before entry to this long after re-stressing (s); the
-# re-stressing window starts at the first impact on the exit edge and is this long too.
+# re-stressing window starts at the first impact on the exit edge and lasts this long or
+# EXIT_BURST_S, whichever is longer.
 WINDOW_S = 3e-4
 
 # name -> (label, unit) of every per-cell quantity, in the order of sweep_summary.csv

@@ -26,6 +26,12 @@ from taichi_bearing.output.histories import (
 ROOT = Path(__file__).resolve().parents[1]
 
 
+def _default_sigint() -> None:
+    """In the child: Ctrl-C as a terminal delivers it. A shell starts background jobs with
+    SIGINT ignored, and a child inherits that; Python then installs no handler."""
+    signal.signal(signal.SIGINT, signal.SIG_DFL)
+
+
 def _rows(n: int, ncols: int, seed: int = 0, t0: float = 0.0, dt: float = 1e-5) -> np.ndarray:
     """Rows with increasing times and random full-precision values."""
     rng = np.random.default_rng(seed)
@@ -145,7 +151,11 @@ def _start_child(tmp_path: Path, data: np.ndarray) -> subprocess.Popen:
     script = tmp_path / "child.py"
     script.write_text(code)
     proc = subprocess.Popen(
-        [sys.executable, str(script)], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True
+        [sys.executable, str(script)],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+        preexec_fn=_default_sigint,
     )
     line = proc.stdout.readline()
     if line.strip() != "ready":

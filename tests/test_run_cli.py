@@ -20,6 +20,12 @@ ROOT = Path(__file__).resolve().parents[1]
 COARSE = str(ROOT / "cases/validation/coarse_spall.yaml")
 
 
+def _default_sigint() -> None:
+    """In the child: Ctrl-C as a terminal delivers it. A shell starts background jobs with
+    SIGINT ignored, and a child inherits that; Python then installs no handler."""
+    signal.signal(signal.SIGINT, signal.SIG_DFL)
+
+
 def _env() -> dict:
     env = dict(os.environ)
     env["PYTHONPATH"] = str(ROOT) + os.pathsep + env.get("PYTHONPATH", "")
@@ -67,6 +73,7 @@ def test_ctrl_c_leaves_valid_histories(tmp_path):
         [sys.executable, "-m", "taichi_bearing", COARSE, "--out", str(out), "--threads", "1",
          "--quiet", "--no-post"],
         env=_env(), cwd=ROOT, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+        preexec_fn=_default_sigint,
     )  # fmt: skip
     try:
         # wait for the first checkpoint (0.5 ms into the transient), then press Ctrl-C

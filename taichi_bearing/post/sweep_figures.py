@@ -15,6 +15,7 @@ import numpy as np
 import pandas as pd
 
 from diagnostics.files import atomic_path
+from taichi_bearing.checks import EXIT_BURST_S
 from taichi_bearing.sweep_metrics import METRICS, WINDOW_S
 
 __all__ = ["increase_table", "trend_sentence", "write_sweep_outputs"]
@@ -222,8 +223,10 @@ def _report(df: pd.DataFrame, figures: list[Path], out: Path) -> str:
     lines += [
         "",
         f"Passage window: entry minus {w:g} ms to re-stressing plus {w:g} ms; re-stressing "
-        f"impulse: the first {w:g} ms after the first impact on the exit edge; envelope: "
-        "Hilbert envelope of the force minus its median before the window.",
+        f"burst: the first {max(w, EXIT_BURST_S * 1e3):g} ms after the first impact on the "
+        "exit edge, either raceway; envelope: Hilbert envelope of the force minus its median "
+        "before the window; envelope spectrum at BPFO over the last whole BPFO periods of "
+        "the record.",
         "",
         "## Does the model agree with the study?",
         "",
