@@ -222,7 +222,6 @@ class PenaltyContact:
         self.track.from_numpy(track)
         self.n_samples = 0
         self.rebuilds = 0
-        self.n_active = nq  # queries the contact loop visits (set at each grid build)
         self._built = False
         self._countdown = 0
         # Constants baked into this instance's kernels (fewer launch arguments).
@@ -350,13 +349,18 @@ class PenaltyContact:
         """After a checkpoint is loaded: rebuild the search grid and the active query
         list at the next call (a checkpoint from before the list existed has none)."""
         self._built = False
+        self._countdown = 0
+
+    @property
+    def n_active(self) -> int:
+        """Queries the contact loop visits (listed at the last grid build)."""
+        return int(self.status[1])
 
     def _rebuild(self, model: Model) -> None:
         self._k_build(model.x)
         if int(self.status[0]):
             raise RuntimeError("contact search grid overflow: segments far larger than meshed")
         self._k_activate(model.x)
-        self.n_active = int(self.status[1])
         self.rebuilds += 1
         self._built = True
 
