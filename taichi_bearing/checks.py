@@ -476,7 +476,9 @@ def noise_check(
     names = [k for k in predicted if measured.get(k) is not None]
     if not names:
         return check(None, NOISE_LIMIT, None, "no prediction below Nyquist")
-    tones = [k for k in names if (prominence_db.get(k) or math.inf) >= TONE_DB]
+    # without a prominence every peak counts as a tone (a 0 dB peak does not)
+    level = {k: prominence_db.get(k) for k in names}
+    tones = [k for k in names if level[k] is None or level[k] >= TONE_DB]
     limit = max(NOISE_LIMIT, resolution / min(predicted[k] for k in names))
 
     def describe(k):

@@ -16,10 +16,11 @@ __all__ = [
     "GridSpec",
     "PENALTY_METHODS",
     "grid_spec",
-    "query_neighbours",
     "query_corners",
+    "query_neighbours",
     "segment_curvature",
     "segment_end_corners",
+    "turn_angle",
     "segment_elements",
     "segment_stiffness",
 ]
@@ -174,6 +175,12 @@ def _chain_neighbours(segs: np.ndarray, surface: np.ndarray) -> tuple[np.ndarray
     return prev, nxt
 
 
+def turn_angle(u: np.ndarray, w: np.ndarray) -> np.ndarray:
+    """Unsigned angle (rad, 0..pi) from each direction in ``u`` to the one in ``w`` (rows)."""
+    cross = u[:, 0] * w[:, 1] - u[:, 1] * w[:, 0]
+    return np.abs(np.arctan2(cross, np.einsum("ij,ij->i", u, w)))
+
+
 def segment_end_corners(
     nodes: np.ndarray, segments: np.ndarray, surface: np.ndarray, max_turn: float = 0.2
 ) -> tuple[np.ndarray, np.ndarray]:
@@ -187,11 +194,9 @@ def segment_end_corners(
     X = np.asarray(nodes, dtype=float)
     prev, nxt = _chain_neighbours(segs, surface)
     d = X[segs[:, 1]] - X[segs[:, 0]]
-    ang = np.arctan2(d[:, 1], d[:, 0])
 
     def turn(j):  # angle between segment j's neighbour and the segment itself
-        other = np.where(j >= 0, j, 0)
-        t = np.abs((ang[other] - ang + np.pi) % (2 * np.pi) - np.pi)
+        t = turn_angle(d[np.where(j >= 0, j, 0)], d)
         return np.where(j >= 0, t, np.inf)
 
     return turn(prev) > max_turn, turn(nxt) > max_turn
@@ -299,10 +304,8 @@ def query_corners(
     X = np.asarray(nodes, dtype=float)
     a = X[q_node] - X[q_prev]
     b = X[q_next] - X[q_node]
-    la, lb = np.linalg.norm(a, axis=1), np.linalg.norm(b, axis=1)
-    both = (la > 0) & (lb > 0)
-    cos = np.einsum("ij,ij->i", a, b) / np.where(both, la * lb, 1.0)
-    return both & (np.arccos(np.clip(cos, -1.0, 1.0)) > max_turn)
+    both = (np.abs(a).sum(axis=1) > 0) & (np.abs(b).sum(axis=1) > 0)
+    return both & (turn_angle(a, b) > max_turn)
 
 
 def query_neighbours(
@@ -332,7 +335,8 @@ def query_neighbours(
             for j in (ia, ib):
                 k_sum[j - start] += kap
                 k_cnt[j - start] += 1
-        # A node between a curved and a straight segment (a corner, an end) stays flat.
+        # Mean of the node's two segments (half the arc's next to a straight one); an
+        # open end stays flat. Corners contact as points (query_corners).
         both = k_cnt == 2
         kappa[start : start + len(own)] = np.where(both, k_sum / np.maximum(k_cnt, 1), 0.0)
         start += len(own)
