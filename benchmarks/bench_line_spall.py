@@ -1,12 +1,13 @@
 """Speed of the bearing run: wall time, steps, element-steps/s and where the time goes.
 
 Runs the case (default ``cases/line_spall.yaml``) through mesh and preload, then a SHORT
-transient of ``--duration-ms`` (default 0.3 ms) with contact and every recorder, and
-extrapolates the transient to the case's full duration (labelled as such). The baseline,
-measured in the same process on the same mesh and state, is the same model stepped
-without contact (element forces, nodes, loads only). Shares: element/node kernels,
-contact (``add_forces``), recording (sensor sums read-out, energies, recorders, history
-writing: everything in the time loop outside the steps).
+transient of ``--duration-ms`` (default 0.3 ms) with contact and every recorder, as the run
+does it (contact and cage fused into the model's step kernels), and extrapolates it to the
+case's full duration (labelled as such). In the same process, from the same state: the
+transient again with each contributor's own kernel, timed (where the time goes: element
+and node kernels, contact, cage), and the baseline, the model stepped without contact
+(element forces, nodes, loads only). Recording: sensor sums read-out, energies, recorders,
+history writing (everything in the time loop outside the steps).
 
 Usage::
 
@@ -68,47 +69,59 @@ def main() -> None:
     state = model.state_arrays()
     ne = mesh.n_elements
 
-    # --- full transient (short), contact timed, steps timed
-    timed = [_Timed(c) for c in model.contributors]
-    model.contributors[:] = timed
-    step_s = [0.0]
+    duration = args.duration_ms * 1e-3
+    cfg = RunConfig(duration=duration, sample_rate=case.run.sample_rate, progress=False)
+    originals = list(model.contributors)
     advance = model.advance
+    step_s = [0.0]
 
     def timed_advance(*a, **k):
         t = time.perf_counter()
         advance(*a, **k)
         step_s[0] += time.perf_counter() - t
 
-    model.advance = timed_advance
-    duration = args.duration_ms * 1e-3
-    cfg = RunConfig(duration=duration, sample_rate=case.run.sample_rate, progress=False)
-    # compile outside the timing: one short run first
-    with tempfile.TemporaryDirectory() as tmp:
-        run_transient(
-            model,
-            RunConfig(duration=2 / case.run.sample_rate, sample_rate=case.run.sample_rate,
-                      progress=False),
-            Path(tmp), recorders=bm.recorders,
-        )  # fmt: skip
+    def transient(timed: list | None):
+        """The short transient from the preloaded state: wall time, steps, time in steps.
+        ``timed``: contributors wrapped to time their ``add_forces`` (which also takes
+        them out of the model's fused step kernels)."""
+        model.contributors[:] = timed if timed is not None else originals
+        model.advance = timed_advance
+        with tempfile.TemporaryDirectory() as tmp:
+            # compile outside the timing: one short run first
+            run_transient(
+                model,
+                RunConfig(duration=2 / case.run.sample_rate, sample_rate=case.run.sample_rate,
+                          progress=False),
+                Path(tmp), recorders=bm.recorders,
+            )  # fmt: skip
+            model.load_state_arrays(state)
+            for c in timed or ():
+                c.seconds = 0.0
+            step_s[0] = 0.0
+            t0 = time.perf_counter()
+            res = run_transient(model, cfg, Path(tmp), recorders=bm.recorders)
+            wall = time.perf_counter() - t0
+        model.advance = advance
+        model.contributors[:] = originals
         model.load_state_arrays(state)
-        for c in timed:
-            c.seconds = 0.0
-        step_s[0] = 0.0
-        t0 = time.perf_counter()
-        res = run_transient(model, cfg, Path(tmp), recorders=bm.recorders)
-        total = time.perf_counter() - t0
-    contact_s = sum(c.seconds for c in timed)
+        return res, wall, step_s[0]
+
+    # --- the run's own path: contact and cage fused into the step kernels
+    res, total, step_fused = transient(None)
     steps = res.steps
-    model.advance = advance
+    # --- the same with each contributor's own kernel, timed
+    timed = [_Timed(c) for c in originals]
+    _, total_unfused, step_unfused = transient(timed)
+    contact_s = sum(c.seconds for c in timed)
 
     # --- baseline: the same model and state without contact
     model.contributors[:] = []
     model.load_state_arrays(state)
     s, dt = steps_per_sample(model.dt_stable, case.run.sample_rate)
     model.set_dt(dt)
-    model.advance(10, serial=False)  # compile
+    model.advance(10)  # compile
     t0 = time.perf_counter()
-    model.advance(steps, serial=False)
+    model.advance(steps)  # as the run would step it (serial kernels on one thread)
     base = time.perf_counter() - t0
 
     full_steps = round(case.run.duration / res.dt)
@@ -127,14 +140,19 @@ def main() -> None:
           f"{full_steps:9d} {ne * steps / total:13.3g}")  # fmt: skip
     print(f"{'baseline: no contact, same steps':40s} {base:10.2f} {steps:9d} "
           f"{ne * steps / base:13.3g}")  # fmt: skip
+    print(f"{'transient, contributors unfused (timed)':40s} {total_unfused:10.2f} {steps:9d} "
+          f"{ne * steps / total_unfused:13.3g}")  # fmt: skip
     print()
-    elem = step_s[0] - contact_s
-    rec = total - step_s[0]
-    print("share of the measured transient:")
-    print(f"  element forces + node update  {elem:8.2f} s  {100 * elem / total:5.1f} %")
-    print(f"  contact                       {contact_s:8.2f} s  {100 * contact_s / total:5.1f} %")
-    print(f"  recording (samples, files)    {rec:8.2f} s  {100 * rec / total:5.1f} %")
-    print(f"contact run / baseline per step: {total / base:.2f}x")
+    print(f"fused / unfused wall time: {total / total_unfused:.2f}")
+    print(f"recording (samples, files): {100 * (total - step_fused) / total:.1f} % of the "
+          "fused transient")  # fmt: skip
+    elem = step_unfused - contact_s
+    print("share of the unfused transient (each contributor's kernel timed):")
+    print(f"  element forces + node update  {elem:8.2f} s  {100 * elem / total_unfused:5.1f} %")
+    for c in timed:
+        name = type(c.inner).__name__
+        print(f"  {name:28s}  {c.seconds:8.2f} s  {100 * c.seconds / total_unfused:5.1f} %")
+    print(f"contact run (fused) / baseline per step: {total / base:.2f}x")
 
 
 if __name__ == "__main__":

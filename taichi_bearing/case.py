@@ -256,6 +256,7 @@ class Run:
     sample_rate: float  # Hz
     frame_interval: float  # s
     checkpoint_interval: float  # s
+    max_added_mass: float = 0.0  # selective mass scaling budget, fraction of a part's mass
 
 
 @dataclass(frozen=True)
@@ -450,6 +451,7 @@ SCHEMA: dict[str, tuple[type, tuple[Key, ...]]] = {
             Key("sample_rate_Hz", float, **POS),
             Key("frame_interval_ms", float, **POS),
             Key("checkpoint_interval_ms", float, **POS),
+            Key("max_added_mass", float, lo=0.0, hi=0.01, default=0.0),
         ),
     ),
     "output": (

@@ -72,6 +72,32 @@ def _contact_classes():
     return PenaltyContact, RigidCage
 
 
+def _mass_scaling(model, mesh: Mesh) -> dict:
+    """What selective mass scaling did: elements scaled, mass added per part (kg, and as a
+    fraction of the part's mass)."""
+    added = {
+        mesh.part_names[p]: (float(m), float(m / model.part_mass[p]))
+        for p, m in enumerate(model.added_mass)
+        if m > 0
+    }
+    return {
+        "n_elements": model.n_mass_scaled,
+        "added_mass_kg": {k: v[0] for k, v in added.items()},
+        "added_mass_fraction": {k: v[1] for k, v in added.items()},
+    }
+
+
+def _mass_scaling_text(model, mesh: Mesh) -> str:
+    info = _mass_scaling(model, mesh)
+    if not info["n_elements"]:
+        return "no mass scaling"
+    frac = info["added_mass_fraction"]
+    return (
+        f"mass scaling: {info['n_elements']} elements in {len(frac)} parts, at most "
+        f"+{max(frac.values()):.2g} of a part's mass"
+    )
+
+
 def build_model(case: Case, mesh: Mesh, arch: str = "cpu", threads: int | None = None):
     """Start Taichi and build the model, contact, cage and recorders of a case."""
     from taichi_bearing.solver import Model, init_taichi
@@ -86,6 +112,7 @@ def build_model(case: Case, mesh: Mesh, arch: str = "cpu", threads: int | None =
         loads=setup.loads,
         initial_velocities=setup.initial_velocities,
         damping=setup.damping,
+        max_added_mass=case.run.max_added_mass,
     )
     PenaltyContact, RigidCage = _contact_classes()  # noqa: N806
     if PenaltyContact is None:
@@ -232,7 +259,10 @@ def run_case(
     bm = build_model(case, mesh, arch, threads)
     model = bm.model
     times["model"] = time.perf_counter() - t0
-    say(f"model: dt {model.dt_stable:.3g} s, damping step factor {model.damping_step_factor:.3f}")
+    say(
+        f"model: dt {model.dt_stable:.3g} s, damping step factor "
+        f"{model.damping_step_factor:.3f}, {_mass_scaling_text(model, mesh)}"
+    )
 
     if resume:
         pre_path = out / PRELOAD_FILE
@@ -279,6 +309,7 @@ def run_case(
             "n_elements": mesh.n_elements,
             "n_nodes": mesh.n_nodes,
             "dt_s": model.dt,
+            "mass_scaling": _mass_scaling(model, mesh),
             "n_steps": int(model.step_count),
             "wall_time_s": times["transient"],
             "element_steps_per_s": (

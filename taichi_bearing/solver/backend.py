@@ -8,7 +8,7 @@ import taichi as ti
 
 from taichi_bearing.errors import InputError
 
-__all__ = ["ARCHS", "current_arch", "current_threads", "init_taichi"]
+__all__ = ["ARCHS", "current_arch", "current_threads", "init_taichi", "serial_loops"]
 
 ARCHS = {"cpu": ti.cpu, "cuda": ti.cuda, "vulkan": ti.vulkan}
 
@@ -26,6 +26,19 @@ def current_threads() -> int:
     if _active is None or _active[1] is None:
         return os.cpu_count() or 1
     return _active[1]
+
+
+def serial_loops() -> tuple[bool, bool]:
+    """Whether kernels should run (light, heavy) loops on the calling thread.
+
+    A Taichi CPU parallel loop costs a thread-pool dispatch, measured at 50-90 us per loop
+    on the 2-core VM even with one thread: more than a loop over a few thousand light items
+    (the cage's nodes, zeroing a list) takes on its own. So on the CPU light loops are
+    always serial, and heavy ones (elements, nodes, contact queries) are serial when there
+    is one thread; on a GPU both stay parallel.
+    """
+    cpu = current_arch() == "cpu"
+    return cpu, cpu and current_threads() == 1
 
 
 def init_taichi(

@@ -21,6 +21,7 @@ from collections.abc import Sequence
 import numpy as np
 import taichi as ti
 
+from taichi_bearing.solver.backend import serial_loops
 from taichi_bearing.solver.contact_law import friction_force, normal_force
 from taichi_bearing.solver.contact_setup import ContactParameters, segment_stiffness
 from taichi_bearing.solver.model import Model
@@ -100,6 +101,7 @@ class RigidCage:
         self._scale, self._zeta = float(params.penalty_scale), float(params.damping_ratio)
         self._mu_s, self._mu_d = float(params.friction_static), float(params.friction_dynamic)
         self._decay = float(params.friction_decay)
+        self._serial_light = serial_loops()[0]
         # Deeper than the gap no wall is meant (the node would be past the pocket centre).
         self._capture = float(half_gap)
 
@@ -156,11 +158,20 @@ class RigidCage:
         dt: ti.f64,
         dt_v: ti.f64,
     ):
+        self.step_forces(x, v, mass, f_ext, dt, dt_v)
+
+    @ti.func
+    def step_forces(self, x: ti.template(), v: ti.template(), mass: ti.template(),
+                    f_ext: ti.template(), dt, dt_v):  # fmt: skip
+        """Pocket forces into ``f_ext``, then the cage's leapfrog step (the model's fused
+        step kernel calls this directly)."""
+        ti.loop_config(serialize=True)  # a few rollers
         for j in range(self.n_rollers):
             self.cur[j] = ti.Vector.zero(ti.f64, 3)
             phi = self.angle0[j] + self.state[0]
             self.radial[j] = ti.Vector([ti.cos(phi), ti.sin(phi)])
         self.state[2] = 0.0
+        ti.loop_config(serialize=self._serial_light)
         for n in range(self.n_nodes):
             w = self.state[1]
             i = self.node[n]
@@ -208,6 +219,7 @@ class RigidCage:
                 self.en[n] = 0.5 * k * pen * pen
                 self.diss[0] += e_fric
                 self.diss[1] += e_damp
+        ti.loop_config(serialize=True)
         for j in range(self.n_rollers):
             self.acc[j] += self.cur[j]
         ti.loop_config(serialize=True)
@@ -223,7 +235,14 @@ class RigidCage:
         dt = model.dt
         dt_v = 0.5 * dt if model.first else dt
         self._k_step(model.x, model.v, model.mass, model.f_extra, dt, dt_v)
-        self.n_samples += 1
+        self.after_steps(model, 1)
+
+    def before_steps(self, model: Model, n: int) -> int:
+        """Nothing to prepare: any number of steps may run in one kernel."""
+        return n
+
+    def after_steps(self, model: Model, n: int) -> None:
+        self.n_samples += n
 
     # ------------------------------------------------------------------ state and read-out
 

@@ -43,6 +43,7 @@ from collections.abc import Sequence
 import numpy as np
 import taichi as ti
 
+from taichi_bearing.solver.backend import serial_loops
 from taichi_bearing.solver.contact_law import friction_force, normal_force
 from taichi_bearing.solver.contact_setup import (
     ContactPair,
@@ -233,6 +234,7 @@ class PenaltyContact:
         self._mu_s, self._mu_d = float(params.friction_static), float(params.friction_dynamic)
         self._decay = float(params.friction_decay)
         self._smooth = bool(params.smoothing)
+        self._serial_light, self._serial = serial_loops()
 
     # ------------------------------------------------------------------ search grid
 
@@ -323,6 +325,7 @@ class PenaltyContact:
     def _k_motion(self, x: ti.template(), v: ti.template()):
         self.motion[0] = 0.0
         self.motion[1] = 0.0
+        ti.loop_config(serialize=self._serial_light)
         for t in range(self.n_track):
             i = self.track[t]
             ti.atomic_max(self.motion[0], (x[i] - self.x_ref[t]).norm())
@@ -375,10 +378,20 @@ class PenaltyContact:
         f_ext: ti.template(),
         dt: ti.f64,
     ):
+        self.step_forces(x, v, mass, f_ext, dt, dt)
+
+    @ti.func
+    def step_forces(self, x: ti.template(), v: ti.template(), mass: ti.template(),
+                    f_ext: ti.template(), dt, dt_v):  # fmt: skip
+        """One step's contact forces into ``f_ext`` (the model's fused step kernel calls
+        this directly; ``dt_v`` is unused)."""
+        ti.loop_config(serialize=True)  # a few pairs
         for p in range(self.n_pairs):
             self.cur[p] = ti.Vector.zero(ti.f64, 4)
+        ti.loop_config(serialize=self._serial_light)
         for t in range(self.n_track):
             self.node_force[self.track[t]] = ti.Vector.zero(ti.f64, 2)
+        ti.loop_config(serialize=self._serial)
         for qa in range(self.status[1]):
             q = self.q_active[qa]
             i = self.q_node[q]
@@ -430,6 +443,7 @@ class PenaltyContact:
                 self._open(q)
             else:
                 self._apply(q, i, S, best, pen_eff, e_el, best_xi, x, v, mass, f_ext, dt)
+        ti.loop_config(serialize=True)
         for p in range(self.n_pairs):
             self.acc[p] += self.cur[p]
 
@@ -601,11 +615,21 @@ class PenaltyContact:
 
     def add_forces(self, model: Model, t: float) -> None:
         """Add this step's contact forces into ``model.f_extra`` (see module notes)."""
-        self._countdown -= 1
+        self.before_steps(model, 1)
+        self._k_contact(model.x, model.v, model.mass, model.f_extra, model.dt)
+        self.after_steps(model, 1)
+
+    def before_steps(self, model: Model, n: int) -> int:
+        """Before ``n`` steps of :meth:`step_forces` in one kernel: checks the search grid
+        when due, and returns how many steps may run before the next check."""
         if self._countdown <= 0:
             self._check_grid(model)
-        self._k_contact(model.x, model.v, model.mass, model.f_extra, model.dt)
-        self.n_samples += 1
+        return min(n, self._countdown)
+
+    def after_steps(self, model: Model, n: int) -> None:
+        """After ``n`` steps: counts them (grid schedule, sample means)."""
+        self._countdown -= n
+        self.n_samples += n
 
     # ------------------------------------------------------------------ read-out
 

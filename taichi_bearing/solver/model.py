@@ -29,6 +29,7 @@ from taichi_bearing.solver.element import (
     element_geometry,
     element_max_frequencies,
     hourglass_stiffness,
+    selective_mass_scale,
 )
 from taichi_bearing.solver.loads import (
     FixedNodes,
@@ -55,6 +56,12 @@ class ForceContributor(Protocol):
     ``t - dt/2``) and adds forces (N) into ``model.f_extra``. Atomic adds work, but their
     order varies between runs on several threads; for bit-reproducible runs (and resume)
     gather per node in a fixed order as the element forces do.
+
+    A contributor can also be fused into the model's step kernels (one launch per step,
+    or per chunk of steps on one thread) by defining the Taichi function
+    ``step_forces(x, v, mass, f_ext, dt, dt_v)`` (the same forces as ``add_forces``),
+    ``before_steps(model, n) -> int`` (Python, before up to ``n`` fused steps; returns how
+    many may run before it needs Python again, at least 1) and ``after_steps(model, n)``.
     """
 
     def add_forces(self, model: "Model", t: float) -> None: ...
@@ -100,6 +107,11 @@ class Model:
         Sensor name -> node; default ``mesh.sensor_nodes``.
     dt_factor : float
         Time step as a fraction of the smallest element critical step.
+    max_added_mass : float
+        Selective mass scaling (:func:`~taichi_bearing.solver.element.selective_mass_scale`):
+        the densest this may make the smallest elements, as added mass over each part's
+        mass; 0 (default) = none. ``added_mass`` (kg per part) and ``n_mass_scaled`` say
+        what was done (``part_mass``: each part's mass before it).
 
     Notes
     -----
@@ -120,6 +132,7 @@ class Model:
         hourglass_scale: float = 1.0,
         sensors: Mapping[str, int] | None = None,
         dt_factor: float = 0.9,
+        max_added_mass: float = 0.0,
     ) -> None:
         if current_arch() is None:
             # Otherwise Taichi would start itself on a default arch with f32.
@@ -135,6 +148,15 @@ class Model:
         lam, mu, rho, eprime = materials_per_element(mesh, materials)
         khg = hourglass_stiffness(geo, eprime, self.thickness, hourglass_scale)
         omega_e = element_max_frequencies(geo, lam, mu, rho, khg, self.thickness)
+        part = np.asarray(mesh.element_part)
+        rho_scale = selective_mass_scale(omega_e, rho * geo.area * self.thickness, part,
+                                         max_added_mass)  # fmt: skip
+        self.n_mass_scaled = int(np.count_nonzero(rho_scale > 1.0))
+        element_mass = rho * geo.area * self.thickness
+        self.part_mass = np.bincount(part, weights=element_mass)  # before scaling
+        self.added_mass = np.bincount(part, weights=(rho_scale - 1.0) * element_mass)
+        rho = rho * rho_scale
+        omega_e = omega_e / np.sqrt(rho_scale)  # one element alone: omega ~ 1/sqrt(mass)
         self.damping = damping
         beta_e = damping.element_beta(omega_e) if damping is not None else np.zeros(ne)
         self.damped = bool(np.any(beta_e > 0))
@@ -206,6 +228,7 @@ class Model:
         self._setup_sensors(mesh.sensor_nodes if sensors is None else sensors)
         self.initial_velocities = list(initial_velocities)
         self.contributors: list[ForceContributor] = []
+        self._fused: tuple | None = None  # contributors built into the step kernels
         self.step_count = 0
         self.set_initial_velocities()
 
@@ -536,8 +559,12 @@ class Model:
         rec: ti.template(),
         damped: ti.template(),
         serial: ti.template(),
+        fused: ti.template(),
     ):
         self._element_loop(dt, damped, rec, serial)
+        if ti.static(fused):
+            for c in ti.static(self._fused):
+                c.step_forces(self.x, self.v, self.mass, self.f_extra, dt, dt_v)
         self._node_loops(t_load, t_rot, dt, dt_v, first, c_mass, rec, serial)
 
     @ti.kernel
@@ -551,6 +578,7 @@ class Model:
         rec_last: ti.i32,
         damped: ti.template(),
         relax: ti.i32,
+        fused: ti.template(),
     ):
         ti.loop_config(serialize=True)
         for k in range(n):
@@ -570,6 +598,9 @@ class Model:
                 t_rot = 0.0
             for e in range(self.n_elements):
                 self._element(e, dt, damped, rec)
+            if ti.static(fused):
+                for c in ti.static(self._fused):
+                    c.step_forces(self.x, self.v, self.mass, self.f_extra, dt, dt_v)
             self._apply_loads(t_load)
             self._plate_update(dt_v, c_mass)
             for i in range(self.n_nodes):
@@ -629,10 +660,11 @@ class Model:
         record_last : bool
             Store energies, ``v_int`` and Jacobians of the last step for :meth:`energies`.
         serial : bool, optional
-            Run all ``n`` steps in one serial kernel (default: when the mesh is small and
-            there are no contributors). Otherwise each step is one or two kernel launches
-            (plus the contributors'), with loops run in parallel on meshes above
-            ``SERIAL_MAX_ELEMENTS`` elements when Taichi has more than one thread.
+            Run the steps serially, many in one kernel launch (default: on one CPU
+            thread or a mesh of at most ``SERIAL_MAX_ELEMENTS`` elements, when the
+            contributors can be fused, see below). Otherwise each step is one kernel
+            launch with parallel loops (or two plus the contributors' own launches when
+            some contributor has no ``step_forces``).
         relax_damping : float, optional
             Dynamic relaxation: mass-damping coefficient c (1/s); loads at full value,
             prescribed rotations held at angle 0, time not advanced.
@@ -641,38 +673,52 @@ class Model:
             return
         relax = relax_damping is not None
         c_mass = float(relax_damping) if relax else 0.0
+        fused = self._fusable()
+        one_thread = current_arch() == "cpu" and current_threads() == 1
         if serial is None:
-            serial = not self.contributors and self.n_elements <= SERIAL_MAX_ELEMENTS
-        if serial and self.contributors:
-            raise ValueError("serial stepping cannot call force contributors")
-        dt, damped = self.dt, int(self.damped)
-        if serial:
-            self._k_steps_serial(
-                n,
-                self.step_count,
-                dt,
-                int(self.first),
-                c_mass,
-                int(record_last),
-                damped,
-                int(relax),
+            serial = (fused or not self.contributors) and (
+                self.n_elements <= SERIAL_MAX_ELEMENTS or one_thread
             )
-            self.first = False
-            if not relax:
-                self.step_count += n
+        if serial and self.contributors and not fused:
+            raise ValueError("serial stepping cannot call force contributors without step_forces")
+        dt, damped = self.dt, int(self.damped)
+        fused_list = self._fused if fused else ()
+        if serial:
+            # Chunks of steps in one launch (a launch costs ~30 us); a contributor can ask
+            # for a break (the contact's search-grid check).
+            done = 0
+            while done < n:
+                chunk = n - done
+                for c in fused_list:
+                    chunk = max(1, min(chunk, c.before_steps(self, chunk)))
+                last = int(record_last and done + chunk == n)
+                self._k_steps_serial(
+                    chunk, self.step_count, dt, int(self.first), c_mass, last, damped,
+                    int(relax), fused,
+                )  # fmt: skip
+                for c in fused_list:
+                    c.after_steps(self, chunk)
+                self.first = False
+                if not relax:
+                    self.step_count += chunk
+                done += chunk
             return
-        step = self._k_step if not self.contributors else None
         # Serial loops on one thread or small meshes: a Taichi CPU parallel loop costs
         # ~20 % more per element than a plain loop, and a thread-pool dispatch per loop.
         small = self.n_elements <= SERIAL_MAX_ELEMENTS or current_threads() == 1
+        one_kernel = fused or not self.contributors
         for k in range(n):
             t = self.step_count * dt
             first = int(self.first)
             dt_v = 0.5 * dt if first else dt
             rec = int(record_last and k == n - 1)
             t_load, t_rot = (1e300, 0.0) if relax else (t, t + dt)
-            if step is not None:
-                step(t_load, t_rot, dt, dt_v, first, c_mass, rec, damped, small)
+            if one_kernel:
+                for c in fused_list:
+                    c.before_steps(self, 1)
+                self._k_step(t_load, t_rot, dt, dt_v, first, c_mass, rec, damped, small, fused)
+                for c in fused_list:
+                    c.after_steps(self, 1)
             else:
                 self._k_elements(dt, damped, rec, small)
                 for c in self.contributors:
@@ -681,6 +727,21 @@ class Model:
             self.first = False
             if not relax:
                 self.step_count += 1
+
+    def _fusable(self) -> bool:
+        """Whether the contributors run inside the step kernels: all of them have a
+        ``step_forces`` Taichi function (with ``before_steps`` / ``after_steps``), and
+        they are the ones the fused kernels were first built with (Taichi keeps a kernel
+        compiled once; other contributors go through their own ``add_forces``)."""
+        if not self.contributors:
+            return False
+        if self._fused is None:
+            if not all(hasattr(c, "step_forces") for c in self.contributors):
+                return False
+            self._fused = tuple(self.contributors)
+        return len(self._fused) == len(self.contributors) and all(
+            a is b for a, b in zip(self._fused, self.contributors, strict=True)
+        )
 
     # ------------------------------------------------------------------ read-out
 
