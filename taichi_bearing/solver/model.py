@@ -22,7 +22,7 @@ import numpy as np
 import taichi as ti
 
 from taichi_bearing.mesh.types import Mesh
-from taichi_bearing.solver.backend import current_arch, current_threads
+from taichi_bearing.solver.backend import current_arch, current_threads, serial_loops
 from taichi_bearing.solver.damping import StiffnessDamping
 from taichi_bearing.solver.element import (
     critical_time_steps,
@@ -674,7 +674,7 @@ class Model:
         relax = relax_damping is not None
         c_mass = float(relax_damping) if relax else 0.0
         fused = self._fusable()
-        one_thread = current_arch() == "cpu" and current_threads() == 1
+        one_thread = serial_loops()[1]
         if serial is None:
             serial = (fused or not self.contributors) and (
                 self.n_elements <= SERIAL_MAX_ELEMENTS or one_thread
