@@ -149,10 +149,9 @@ class Model:
         khg = hourglass_stiffness(geo, eprime, self.thickness, hourglass_scale)
         omega_e = element_max_frequencies(geo, lam, mu, rho, khg, self.thickness)
         part = np.asarray(mesh.element_part)
-        rho_scale = selective_mass_scale(omega_e, rho * geo.area * self.thickness, part,
-                                         max_added_mass)  # fmt: skip
-        self.n_mass_scaled = int(np.count_nonzero(rho_scale > 1.0))
         element_mass = rho * geo.area * self.thickness
+        rho_scale = selective_mass_scale(omega_e, element_mass, part, max_added_mass)
+        self.n_mass_scaled = int(np.count_nonzero(rho_scale > 1.0))
         self.part_mass = np.bincount(part, weights=element_mass)  # before scaling
         self.added_mass = np.bincount(part, weights=(rho_scale - 1.0) * element_mass)
         rho = rho * rho_scale
