@@ -257,6 +257,7 @@ class Run:
     frame_interval: float  # s
     checkpoint_interval: float  # s
     max_added_mass: float = 0.0  # selective mass scaling budget, fraction of a part's mass
+    time_step: str = "global"  # "global" (assembled mesh) or "element" critical step
 
 
 @dataclass(frozen=True)
@@ -452,6 +453,7 @@ SCHEMA: dict[str, tuple[type, tuple[Key, ...]]] = {
             Key("frame_interval_ms", float, **POS),
             Key("checkpoint_interval_ms", float, **POS),
             Key("max_added_mass", float, lo=0.0, hi=0.01, default=0.0),
+            Key("time_step", str, choices=("global", "element"), default="global"),
         ),
     ),
     "output": (

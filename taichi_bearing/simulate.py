@@ -113,6 +113,7 @@ def build_model(case: Case, mesh: Mesh, arch: str = "cpu", threads: int | None =
         initial_velocities=setup.initial_velocities,
         damping=setup.damping,
         max_added_mass=case.run.max_added_mass,
+        time_step=case.run.time_step,
     )
     PenaltyContact, RigidCage = _contact_classes()  # noqa: N806
     if PenaltyContact is None:
@@ -260,8 +261,8 @@ def run_case(
     model = bm.model
     times["model"] = time.perf_counter() - t0
     say(
-        f"model: dt {model.dt_stable:.3g} s, damping step factor "
-        f"{model.damping_step_factor:.3f}, {_mass_scaling_text(model, mesh)}"
+        f"model: dt {model.dt_stable:.3g} s ({model.time_step} estimate), damping step "
+        f"factor {model.damping_step_factor:.3f}, {_mass_scaling_text(model, mesh)}"
     )
 
     if resume:
@@ -309,6 +310,12 @@ def run_case(
             "n_elements": mesh.n_elements,
             "n_nodes": mesh.n_nodes,
             "dt_s": model.dt,
+            "time_step": {
+                "method": model.time_step,
+                "critical_step_s": model.critical_step,
+                "damping_step_factor": model.damping_step_factor,
+                "element_step_s": float(model.element_dt.min()),
+            },
             "mass_scaling": _mass_scaling(model, mesh),
             "n_steps": int(model.step_count),
             "wall_time_s": times["transient"],

@@ -89,6 +89,11 @@ class RigidCage:
             roller.append(np.full(len(ids), j))
             kk.append(k_sum[ids] / count[ids])
         node_ids = np.concatenate(nodes).astype(np.int32)
+        if params.penalty_method == "segment":
+            # A spring k and dashpot c to the rigid cage: bounded by 2 k, 2 c on the node.
+            k_node = np.concatenate(kk)
+            c_node = 2.0 * params.damping_ratio * np.sqrt(k_node * model.mass_np[node_ids])
+            model.add_stiffness_bound(node_ids, 2.0 * k_node, 2.0 * c_node)
         self.n_rollers = nz = len(roller_surfaces)
         self.n_nodes = nn = len(node_ids)
         self.inertia = float(inertia)

@@ -49,6 +49,7 @@ from taichi_bearing.solver.contact_setup import (
     ContactPair,
     ContactParameters,
     grid_spec,
+    penalty_bounds,
     query_corners,
     query_neighbours,
     segment_curvature,
@@ -143,6 +144,16 @@ class PenaltyContact:
         k_seg = segment_stiffness(
             mesh, segs, lam, mu, model.area_np, model.thickness, params.penalty_scale
         )
+        if params.penalty_method == "segment":
+            # The soft penalty (m / dt^2) follows the step and needs no bound.
+            passes = [
+                (np.asarray(mesh.surfaces[names[i // ns]]), segs[seg_surf == i % ns],
+                 k_seg[seg_surf == i % ns])
+                for i in np.flatnonzero(table >= 0)
+            ]  # fmt: skip
+            k_node, c_node = penalty_bounds(mesh.nodes, passes, model.mass_np, params.damping_ratio)
+            on = np.flatnonzero(k_node)
+            model.add_stiffness_bound(on, k_node[on], c_node[on])
         kappa = np.zeros(len(segs))
         if params.smoothing:
             kappa = segment_curvature(mesh.nodes, segs, seg_surf)

@@ -4,6 +4,7 @@ list and the size of the search grid. No Taichi here (the kernels are in ``conta
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 from dataclasses import dataclass
 
 import numpy as np
@@ -22,6 +23,7 @@ __all__ = [
     "segment_end_corners",
     "turn_angle",
     "segment_elements",
+    "penalty_bounds",
     "segment_stiffness",
 ]
 
@@ -149,6 +151,67 @@ def segment_stiffness(
     length = np.linalg.norm(mesh.nodes[segments[:, 1]] - mesh.nodes[segments[:, 0]], axis=1)
     bulk = lam[elem] + 2.0 * mu[elem] / 3.0
     return scale * bulk * (length * thickness) ** 2 / (element_area[elem] * thickness)
+
+
+def penalty_bounds(
+    nodes: np.ndarray,
+    passes: Sequence[tuple[np.ndarray, np.ndarray, np.ndarray]],
+    nodal_mass: np.ndarray,
+    damping_ratio: float,
+) -> tuple[np.ndarray, np.ndarray]:
+    """Per-node bound on the springs and dashpots penalty contact can add (for the
+    global time step, :meth:`~taichi_bearing.solver.model.Model.add_stiffness_bound`).
+
+    A query node in contact holds one spring ``k`` of the segment it touches (normal,
+    and the same stiffness tangentially while it sticks) to the point ``N1 x1 + N2 x2``
+    of that segment, one contact at a time over all its passes. Since
+    ``(x_s - N1 x1 - N2 x2)^2 <= 2 (x_s^2 + N1 x1^2 + N2 x2^2)``, the spring is bounded by
+    ``2 k`` on the query node and ``2 k N_i`` on each segment node, where the ``N_i`` of
+    all the query nodes on a segment node's two segments sum to at most
+    ``1 + 2 sum_j (1 - j / r)`` over ``1 <= j < r``, ``r = L_segment / L_query``
+    (1 for ``r <= 1``). One body touches a surface at a time, so each role takes its
+    largest pass. Dashpots ``2 zeta sqrt(k m)`` (``m`` at most the node's own mass) are
+    bounded the same way.
+
+    Parameters
+    ----------
+    nodes : ndarray (n_nodes, 2)
+        Reference coordinates.
+    passes : sequence of (query_segments, segments, segment_stiffness)
+        One entry per contact pass: the querying surface's segments (n, 2), the segments
+        (m, 2) it is checked against and their penalty stiffnesses (N/m).
+    nodal_mass : ndarray (n_nodes,)
+    damping_ratio : float
+
+    Returns
+    -------
+    stiffness, damping : ndarray (n_nodes,)
+        N/m and N s/m, zero off the contact surfaces.
+    """
+    X = np.asarray(nodes, dtype=float)
+    m = np.asarray(nodal_mass, dtype=float)
+    k_query = np.zeros(len(m))  # largest spring held as a query node
+    k_seg_node = np.zeros(len(m))  # largest sum of springs held as a segment node
+    share_of = np.zeros(len(m))
+
+    def lengths(segs: np.ndarray) -> np.ndarray:
+        return np.linalg.norm(X[segs[:, 1]] - X[segs[:, 0]], axis=1)
+
+    for query_segs, segs, k_seg in passes:
+        q = np.unique(query_segs)
+        k_query[q] = np.maximum(k_query[q], float(np.max(k_seg)))
+        r = float(np.max(lengths(segs)) / np.min(lengths(query_segs)))
+        share = 1.0 + 2.0 * sum(1.0 - j / r for j in range(1, math.ceil(r)))
+        local = np.zeros(len(m))  # largest stiffness of the segments at each node
+        for end in (0, 1):
+            np.maximum.at(local, segs[:, end], k_seg)
+        more = share * local > k_seg_node * share_of
+        k_seg_node[more] = local[more]
+        share_of[more] = share
+    # springs 2 k; dashpots 2 c with c = 2 zeta sqrt(k m_eff), m_eff <= the node's mass
+    k_node = 2.0 * (k_query + share_of * k_seg_node)
+    c_node = 4.0 * damping_ratio * (np.sqrt(k_query * m) + share_of * np.sqrt(k_seg_node * m))
+    return k_node, c_node
 
 
 def _vertex_curvature(p: np.ndarray, a: np.ndarray, b: np.ndarray) -> np.ndarray:

@@ -25,9 +25,12 @@ from taichi_bearing.mesh.types import Mesh
 from taichi_bearing.solver.backend import current_arch, current_threads, serial_loops
 from taichi_bearing.solver.damping import StiffnessDamping
 from taichi_bearing.solver.element import (
+    assembled_matrix,
+    assembled_max_frequency,
     critical_time_steps,
     element_geometry,
     element_max_frequencies,
+    element_stiffness,
     hourglass_stiffness,
     selective_mass_scale,
 )
@@ -44,6 +47,7 @@ from taichi_bearing.solver.materials import Material, materials_per_element
 __all__ = ["ForceContributor", "Model", "StiffnessDamping"]  # StiffnessDamping: re-export
 
 _FIXED, _HELD, _ROT, _PLATE = 1, 2, 4, 8
+TIME_STEP_METHODS = ("element", "global")
 # Below this many elements a block of steps runs as one serial kernel (launch-bound regime).
 SERIAL_MAX_ELEMENTS = 3000
 
@@ -106,7 +110,14 @@ class Model:
     sensors : mapping of str to int, optional
         Sensor name -> node; default ``mesh.sensor_nodes``.
     dt_factor : float
-        Time step as a fraction of the smallest element critical step.
+        Time step as a fraction of the critical step.
+    time_step : {"element", "global"}
+        How the critical step is found. ``"element"``: the smallest element's own
+        (``2 / omega_e``, the element eigenvalue bound; with a square element this is
+        the characteristic length over the wave speed). ``"global"``: the assembled
+        mesh's highest frequency (:func:`~taichi_bearing.solver.element.assembled_max_frequency`),
+        never smaller, and larger where small elements border larger ones; force
+        contributors bound their stiffness with :meth:`add_stiffness_bound`.
     max_added_mass : float
         Selective mass scaling (:func:`~taichi_bearing.solver.element.selective_mass_scale`):
         the densest this may make the smallest elements, as added mass over each part's
@@ -133,12 +144,15 @@ class Model:
         sensors: Mapping[str, int] | None = None,
         dt_factor: float = 0.9,
         max_added_mass: float = 0.0,
+        time_step: str = "element",
     ) -> None:
         if current_arch() is None:
             # Otherwise Taichi would start itself on a default arch with f32.
             raise RuntimeError("call taichi_bearing.solver.init_taichi() before building a Model")
         if not thickness > 0:
             raise ValueError(f"thickness must be positive, got {thickness!r}")
+        if time_step not in TIME_STEP_METHODS:
+            raise ValueError(f"time_step must be one of {TIME_STEP_METHODS}, got {time_step!r}")
         self.mesh = mesh
         self.thickness = float(thickness)
         self.n_nodes = nn = mesh.n_nodes
@@ -160,16 +174,27 @@ class Model:
         beta_e = damping.element_beta(omega_e) if damping is not None else np.zeros(ne)
         self.damped = bool(np.any(beta_e > 0))
         self.element_dt = critical_time_steps(omega_e, beta_e)
-        self.dt_stable = float(dt_factor * self.element_dt.min())
-        # Stiffness damping shortens the stable step: this is by how much.
-        self.damping_step_factor = float(self.element_dt.min() / (2.0 / omega_e.max()))
-        self.dt = self.dt_stable
+        self._omega_e_max = float(omega_e.max())
         mass = np.zeros(nn)
         np.add.at(mass, elements, geo.shape_integrals * (rho * self.thickness)[:, None])
         if np.any(mass <= 0):
             raise ValueError(f"node {int(np.argmin(mass))} belongs to no element (zero mass)")
         self.mass_np = mass
         self.area_np = geo.area
+        self.time_step = time_step
+        self.dt_factor = float(dt_factor)
+        # contributors' springs and dashpots, see add_stiffness_bound
+        self.node_stiffness = np.zeros(nn)
+        self.node_damping = np.zeros(nn)
+        self._global = None
+        if time_step == "global":
+            k_el = element_stiffness(geo, lam, mu, khg, self.thickness)
+            c = None
+            if self.damped:
+                c = assembled_matrix(k_el * beta_e[:, None, None], elements, mass)
+            self._global = (assembled_matrix(k_el, elements, mass), c)
+        self.dt = 0.0
+        self._set_critical_step()
 
         # ---- nodes
         self.X = _vec_field(nn)
@@ -341,6 +366,38 @@ class Model:
         self.sensor_sum.fill(0.0)
         self.first = True
         self.step_count = 0
+
+    def _set_critical_step(self) -> None:
+        """``dt_stable`` (and ``dt`` when it was the stable step) from the chosen estimate;
+        ``damping_step_factor`` says by how much stiffness damping shortened it."""
+        was_stable = self.dt == 0.0 or self.dt == self.dt_stable
+        if self._global is None:
+            step = float(self.element_dt.min())
+            undamped = 2.0 / self._omega_e_max
+        else:
+            k, c = self._global
+            omega, zeta = assembled_max_frequency(
+                k, self.mass_np, c, self.node_stiffness, self.node_damping
+            )
+            step = float(critical_time_steps(np.array([omega]), 2.0 * zeta / omega)[0])
+            undamped = 2.0 / omega
+        self.critical_step = step
+        self.damping_step_factor = step / undamped
+        self.dt_stable = self.dt_factor * step
+        self.dt = self.dt_stable if was_stable else min(self.dt, self.dt_stable)
+
+    def add_stiffness_bound(
+        self, nodes: np.ndarray, stiffness: np.ndarray, damping: np.ndarray | float = 0.0
+    ) -> None:
+        """Declare the springs (N/m) and dashpots (N s/m) a force contributor can add at
+        ``nodes``, each as if to ground in both directions (a spring ``k`` between two
+        nodes is bounded by ``2 k`` on each). With ``time_step="global"`` the critical
+        step is found again with them; the element estimate ignores them."""
+        idx = np.asarray(nodes, dtype=np.int64)
+        np.add.at(self.node_stiffness, idx, stiffness)
+        np.add.at(self.node_damping, idx, damping)
+        if self._global is not None:
+            self._set_critical_step()
 
     def set_dt(self, dt: float) -> None:
         """Use a time step not above the stable one (e.g. to fit the output interval)."""
