@@ -102,6 +102,14 @@ def _burst_history(n_impulses: int, peak: float, f0: float = 10e3):
     return hist, event
 
 
+@pytest.mark.parametrize(("peak", "counted"), [(0.5, 5), (0.3, 0)])
+def test_impulses_riding_on_the_returning_load_count_and_ripple_does_not(peak, counted):
+    # 0.3 F0 over their troughs: impulses; 0.1 F0: ripple of the loaded contact
+    hist, event = _burst_history(5, peak=peak)
+    sig = passage_signature(hist, event, "s_ay", window_s=3e-4)
+    assert sig["exit_impulses"] == counted
+
+
 @pytest.mark.parametrize("n", [1, 3, 7])
 def test_impulses_of_the_burst_are_counted(n):
     hist, event = _burst_history(n, peak=2.0)
