@@ -140,14 +140,16 @@ def element_max_frequencies(
     rho: np.ndarray,
     khg: np.ndarray,
     thickness: float,
+    stiffness: np.ndarray | None = None,
 ) -> np.ndarray:
-    """Highest angular frequency ``omega_e`` of each element alone with its lumped mass.
+    """Highest angular frequency ``omega_e`` of each element alone with its lumped mass
+    (``stiffness``: the :func:`element_stiffness` matrices, when already at hand).
 
     By the element eigenvalue theorem no frequency of the assembled mesh exceeds the
     largest ``omega_e``. For a square of side L, ``2 / omega_e = 0.707 L / c``: the familiar
     characteristic length (area / longest diagonal) over the dilatational wave speed.
     """
-    K = element_stiffness(geo, lam, mu, khg, thickness)
+    K = element_stiffness(geo, lam, mu, khg, thickness) if stiffness is None else stiffness
     m = np.repeat(geo.shape_integrals * (rho * thickness)[:, None], 2, axis=1)  # (ne, 8)
     s = 1.0 / np.sqrt(m)
     A = K * s[:, :, None] * s[:, None, :]

@@ -161,7 +161,8 @@ class Model:
         geo = element_geometry(np.asarray(mesh.nodes, dtype=float), elements)
         lam, mu, rho, eprime = materials_per_element(mesh, materials)
         khg = hourglass_stiffness(geo, eprime, self.thickness, hourglass_scale)
-        omega_e = element_max_frequencies(geo, lam, mu, rho, khg, self.thickness)
+        k_el = element_stiffness(geo, lam, mu, khg, self.thickness)
+        omega_e = element_max_frequencies(geo, lam, mu, rho, khg, self.thickness, k_el)
         part = np.asarray(mesh.element_part)
         element_mass = rho * geo.area * self.thickness
         rho_scale = selective_mass_scale(omega_e, element_mass, part, max_added_mass)
@@ -188,7 +189,6 @@ class Model:
         self.node_damping = np.zeros(nn)
         self._global = None
         if time_step == "global":
-            k_el = element_stiffness(geo, lam, mu, khg, self.thickness)
             c = None
             if self.damped:
                 c = assembled_matrix(k_el * beta_e[:, None, None], elements, mass)
