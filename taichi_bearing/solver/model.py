@@ -22,7 +22,7 @@ import numpy as np
 import taichi as ti
 
 from taichi_bearing.mesh.types import Mesh
-from taichi_bearing.solver.backend import current_arch, current_threads, serial_loops
+from taichi_bearing.solver.backend import current_arch, serial_loops
 from taichi_bearing.solver.damping import StiffnessDamping
 from taichi_bearing.solver.element import (
     assembled_matrix,
@@ -730,11 +730,11 @@ class Model:
         relax = relax_damping is not None
         c_mass = float(relax_damping) if relax else 0.0
         fused = self._fusable()
-        one_thread = serial_loops()[1]
+        # Serial loops on one thread or small meshes: a Taichi CPU parallel loop costs
+        # ~20 % more per element than a plain loop, and a thread-pool dispatch per loop.
+        small = self.n_elements <= SERIAL_MAX_ELEMENTS or serial_loops()[1]
         if serial is None:
-            serial = (fused or not self.contributors) and (
-                self.n_elements <= SERIAL_MAX_ELEMENTS or one_thread
-            )
+            serial = (fused or not self.contributors) and small
         if serial and self.contributors and not fused:
             raise ValueError("serial stepping cannot call force contributors without step_forces")
         dt, damped = self.dt, int(self.damped)
@@ -759,9 +759,6 @@ class Model:
                     self.step_count += chunk
                 done += chunk
             return
-        # Serial loops on one thread or small meshes: a Taichi CPU parallel loop costs
-        # ~20 % more per element than a plain loop, and a thread-pool dispatch per loop.
-        small = self.n_elements <= SERIAL_MAX_ELEMENTS or current_threads() == 1
         one_kernel = fused or not self.contributors
         for k in range(n):
             t = self.step_count * dt
