@@ -14,7 +14,7 @@ from taichi_bearing.solver.contact import ContactPair, ContactParameters, Penalt
 from taichi_bearing.solver.contact_bodies import merge_meshes
 from taichi_bearing.solver.loads import FixedNodes, uniform_load
 from taichi_bearing.solver.materials import Material
-from taichi_bearing.solver.model import Model
+from taichi_bearing.solver.model import Model, rigid_velocity_field
 from taichi_bearing.solver.relaxation import relax
 
 STEEL = Material(210e9, 0.3, 7850.0)
@@ -228,23 +228,33 @@ def test_resting_disk_resultants_obey_newton_and_both_passes_agree():
     assert other[2] == pytest.approx(one[2], rel=1e-3)
 
 
+def thrown_disk(
+    params: ContactParameters, velocity: tuple[float, float], omega: float = 0.0
+) -> tuple[Model, PenaltyContact, np.ndarray]:
+    """A disk just above the block (its lowest vertex mid-segment), moving at
+    ``velocity`` and spinning at ``omega`` about its centre; the block's bottom fixed."""
+    disk = disk_mesh(R, 48)
+    disk.nodes = disk.nodes + np.array([0.0005, R + 1e-6])
+    block = rectangle_mesh(0.06, 0.01, 60, 10, origin=(-0.03, -0.01))
+    mesh = merge_meshes({"disk": disk, "block": block})
+    ids = np.unique(mesh.elements[mesh.element_part == mesh.part_id("disk")])
+    model = Model(mesh, STEEL, constraints=[FixedNodes(mesh.node_sets["block.bottom"])])
+    contact = PenaltyContact(model, [ContactPair("c", "disk.outer", "block.top")], params)
+    model.contributors.append(contact)
+    X = model.positions()
+    v = np.zeros((model.n_nodes, 2))
+    v[ids] = rigid_velocity_field(X[ids], omega, X[ids].mean(0), velocity)
+    model.set_state(v=v)
+    model.restart_accounting()
+    return model, contact, ids
+
+
 def test_bouncing_disk_keeps_the_energy_balance():
     """A disk thrown onto the block: kinetic + strain + stored penalty energy + what the
     contact dissipated stays equal to the initial kinetic energy (elastic impact, and an
     impact with contact damping)."""
     for zeta in (0.0, 0.5):
-        disk = disk_mesh(R, 48)
-        disk.nodes = disk.nodes + np.array([0.0005, R + 1e-6])
-        block = rectangle_mesh(0.06, 0.01, 60, 10, origin=(-0.03, -0.01))
-        mesh = merge_meshes({"disk": disk, "block": block})
-        ids = np.unique(mesh.elements[mesh.element_part == mesh.part_id("disk")])
-        model = Model(mesh, STEEL, constraints=[FixedNodes(mesh.node_sets["block.bottom"])])
-        params = ContactParameters(damping_ratio=zeta)
-        contact = PenaltyContact(model, [ContactPair("c", "disk.outer", "block.top")], params)
-        model.contributors.append(contact)
-        v = np.zeros((model.n_nodes, 2))
-        v[ids, 1] = -1.0
-        model.set_state(v=v)
+        model, contact, ids = thrown_disk(ContactParameters(damping_ratio=zeta), (0.0, -1.0))
         model.restart_accounting()
         ke0 = 0.5 * model.mass_np[ids].sum()
         worst, touched = 0.0, False
@@ -261,3 +271,37 @@ def test_bouncing_disk_keeps_the_energy_balance():
         assert worst < 0.02
         if zeta > 0:
             assert c["damping"] > 0.01 * ke0
+
+
+def test_active_query_list_skips_far_nodes_and_changes_nothing():
+    """A spinning disk thrown onto the block bounces and rolls. Listing only the queries
+    within reach of a paired segment at each grid build (most of the disk's rim and of
+    the block's top are far from the contact) must give the same motion and contact
+    forces as visiting every query."""
+
+    def throw(visit_all: bool):
+        params = ContactParameters(friction_static=0.3, friction_dynamic=0.2)
+        model, contact, _ = thrown_disk(params, (2.0, -1.0), omega=-300.0)
+        if visit_all:
+
+            def every_query(x):
+                contact.q_active.from_numpy(np.arange(contact.n_query, dtype=np.int32))
+                contact.status[1] = contact.n_query
+
+            contact._k_activate = every_query
+        listed, fn = [], []
+        for _ in range(40):
+            model.advance(50)
+            listed.append(contact.n_active)
+            fn.append(contact.contact_state()["fn"].sum())
+        return model.positions(), np.array(fn), np.array(listed), contact.n_query, contact
+
+    x_list, fn_list, listed, n_query, contact = throw(False)
+    x_all, fn_all, _, _, _ = throw(True)
+    print(f"queries listed {listed.min()}-{listed.max()} of {n_query}; rebuilds {contact.rebuilds}")
+    assert fn_list.max() > 0  # it touched
+    assert contact.rebuilds > 5  # the list was made again as the disk moved
+    assert listed.max() < 0.3 * n_query
+    scale = np.abs(fn_all).max()
+    np.testing.assert_allclose(fn_list, fn_all, rtol=0, atol=1e-9 * scale)
+    np.testing.assert_allclose(x_list, x_all, rtol=0, atol=1e-12)

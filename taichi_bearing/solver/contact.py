@@ -31,7 +31,9 @@ Search: a uniform square grid over the surfaces' box (see
 :func:`~taichi_bearing.solver.contact_setup.grid_spec`), each segment binned in the cells
 its box grown by capture depth + margin overlaps, rebuilt when some surface node has
 moved a quarter of the margin since the last build (checked on a schedule from the
-fastest surface node's speed, not every step); each node then reads one cell. No shape
+fastest surface node's speed, not every step). Each build lists the nodes within reach
+of a paired segment (capture depth + margin + patch reach); only those are visited, each
+reading its own cell. No shape
 assumption (circles, flats, spall walls alike); the cost is linear in the number of
 surface nodes as long as the bodies stay in the box the grid was sized for
 (outside it, points fall into the border cells: still correct, slower).
@@ -191,6 +193,7 @@ class PenaltyContact:
         self.q_en = f(ti.f64, shape=nq)  # normal penalty energy stored
         self.q_et = f(ti.f64, shape=nq)  # tangential spring energy stored
         self.q_active = f(ti.i32, shape=nq)  # queries near a paired segment, in order
+        self.q_near = f(ti.i32, shape=nq)  # 1: listed at the last build
         self.seg_a = f(ti.i32, shape=nseg)
         self.seg_b = f(ti.i32, shape=nseg)
         self.seg_surf = f(ti.i32, shape=nseg)
@@ -246,6 +249,11 @@ class PenaltyContact:
         self._decay = float(params.friction_decay)
         self._smooth = bool(params.smoothing)
         self._serial_light, self._serial = serial_loops()
+        # Active-query reach (see _k_activate): curvature bound of a patch and the
+        # largest arc offset from its chord.
+        self._kappa_max = float(np.max(np.abs(kappa)) + np.max(np.abs(q_kappa)))
+        sagitta = float(np.max(np.abs(kappa) * lengths**2)) / 8.0
+        self._activate_base = float(g.capture + g.margin) + sagitta
 
     # ------------------------------------------------------------------ search grid
 
@@ -303,29 +311,63 @@ class PenaltyContact:
         self.q_en[q] = 0.0
         self.q_et[q] = 0.0
 
+    @ti.func
+    def _candidate(self, S, i, k, xp, x: ti.template()):
+        """Cell item k for query node i (at xp) of surface S: (segment, -1 when it is not
+        of a paired surface or holds the node; xi, the node's projection on it, not
+        clamped; squared true distance from the node to it)."""
+        s = -1
+        xi = 0.0
+        d2 = 1e300
+        if self.pass_pair[S * self.n_surf + self.cell_surf[k]] >= 0:
+            sk = self.cell_items[k]
+            ia, ib = self.seg_a[sk], self.seg_b[sk]
+            if ia != i and ib != i:
+                a = x[ia]
+                d = x[ib] - a
+                xi = (xp - a).dot(d) / d.dot(d)
+                r = xp - (a + ti.min(ti.max(xi, 0.0), 1.0) * d)
+                d2 = r.dot(r)
+                s = sk
+        return s, xi, d2
+
     @ti.kernel
     def _k_activate(self, x: ti.template()):
-        """List, in query order, the queries with a segment of a paired surface in their
-        cell or a neighbouring one. Until the next build no node moves further than a
-        quarter of the margin (less than a cell), and segments stay binned where they
-        were: a query left out cannot find a candidate, so skipping it changes nothing.
-        A query left out while still holding a contact state is opened, as the contact
-        loop would do at its next call."""
+        """List, in query order, the queries within reach of a paired segment: true
+        distance at most capture depth + margin + the query's patch reach (+ the largest
+        arc sagitta), over the segments of its cell and the neighbouring ones.
+
+        Until the next build a node and a segment's ends each move at most half the
+        margin, so a query left out stays further than capture + patch reach from every
+        segment: its own position is more than the capture depth behind any segment it
+        projects onto, and its patch cannot reach one in front (either way no contact).
+        It could only fall behind the line of a segment it does not project onto (beyond
+        the segment's end), which is no contact either. So skipping it changes nothing,
+        and most queries are skipped (a roller's surface is near a raceway only around
+        its two contacts). A query left out while still holding a contact state is
+        opened, as the contact loop would do at its next call."""
         nx, ny = self._nx, self._ny
+        for q in range(self.n_query):
+            S = self.q_surf[q]
+            i = self.q_node[q]
+            xp = x[i]
+            hq = self.q_hmax[q]
+            reach = self._activate_base + hq * (1.0 + 0.5 * self._kappa_max * hq)
+            cx, cy = self._cell_xy(xp)
+            near = 0
+            for oy in range(ti.max(cy - 1, 0), ti.min(cy + 2, ny)):
+                for ox in range(ti.max(cx - 1, 0), ti.min(cx + 2, nx)):
+                    c = oy * nx + ox
+                    for k in range(self.cell_start[c], self.cell_start[c + 1]):
+                        s, _, d2 = self._candidate(S, i, k, xp, x)
+                        if s >= 0 and d2 <= reach * reach:
+                            near = 1
+            self.q_near[q] = near
         ti.loop_config(serialize=True)  # ordered, reproducible list
         for _ in range(1):
             n = 0
             for q in range(self.n_query):
-                S = self.q_surf[q]
-                cx, cy = self._cell_xy(x[self.q_node[q]])
-                near = 0
-                for oy in range(ti.max(cy - 1, 0), ti.min(cy + 2, ny)):
-                    for ox in range(ti.max(cx - 1, 0), ti.min(cx + 2, nx)):
-                        c = oy * nx + ox
-                        for k in range(self.cell_start[c], self.cell_start[c + 1]):
-                            if self.pass_pair[S * self.n_surf + self.cell_surf[k]] >= 0:
-                                near = 1
-                if near != 0:
+                if self.q_near[q] != 0:
                     self.q_active[n] = q
                     n += 1
                 elif self.q_seg[q] >= 0:
@@ -415,25 +457,19 @@ class PenaltyContact:
             best_pen = 0.0
             best_xi = 0.0
             for k in range(self.cell_start[c], self.cell_start[c + 1]):
-                if self.pass_pair[S * self.n_surf + self.cell_surf[k]] >= 0:
-                    s = self.cell_items[k]
-                    ia, ib = self.seg_a[s], self.seg_b[s]
-                    if ia != i and ib != i:
-                        a = x[ia]
-                        d = x[ib] - a
-                        l2 = d.dot(d)
-                        xi = (xp - a).dot(d) / l2
-                        r = xp - (a + ti.min(ti.max(xi, 0.0), 1.0) * d)
-                        d2 = r.dot(r)
-                        # Closest segment (true distance, so an extended line beyond a
-                        # convex vertex never wins); ties to the lower index.
-                        if d2 < best_d2 or (d2 == best_d2 and s < best):
-                            best, best_d2, best_xi = s, d2, xi
-                            best_pen = -(xp - a).dot(ti.Vector([d[1], -d[0]])) / ti.sqrt(l2)
-                            # Against the arc: its offset from the chord (parabolic
-                            # sagitta, zero at the nodes) adds to the penetration.
-                            xc = ti.min(ti.max(xi, 0.0), 1.0)
-                            best_pen += 0.5 * self.seg_kappa[s] * l2 * xc * (1.0 - xc)
+                s, xi, d2 = self._candidate(S, i, k, xp, x)
+                # Closest segment (true distance, so an extended line beyond a convex
+                # vertex never wins); ties to the lower index.
+                if s >= 0 and (d2 < best_d2 or (d2 == best_d2 and s < best)):
+                    best, best_d2, best_xi = s, d2, xi
+                    a = x[self.seg_a[s]]
+                    d = x[self.seg_b[s]] - a
+                    l2 = d.dot(d)
+                    best_pen = -(xp - a).dot(ti.Vector([d[1], -d[0]])) / ti.sqrt(l2)
+                    # Against the arc: its offset from the chord (parabolic sagitta, zero
+                    # at the nodes) adds to the penetration.
+                    xc = ti.min(ti.max(xi, 0.0), 1.0)
+                    best_pen += 0.5 * self.seg_kappa[s] * l2 * xc * (1.0 - xc)
             pen_eff = best_pen
             e_el = 0.0
             if ti.static(self._smooth):

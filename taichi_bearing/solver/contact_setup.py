@@ -119,19 +119,22 @@ class ContactPair:
 
 def segment_elements(mesh: Mesh, segments: np.ndarray) -> np.ndarray:
     """The element each boundary segment belongs to (the one holding both its nodes)."""
-    edges = np.stack([mesh.elements, np.roll(mesh.elements, -1, axis=1)], axis=2)
-    edges = edges.reshape(-1, 2)
-    owner = np.repeat(np.arange(mesh.n_elements), 4)
-    lookup = {(int(a), int(b)): int(e) for (a, b), e in zip(edges, owner, strict=True)}
-    out = np.empty(len(segments), dtype=np.int64)
-    for k, (a, b) in enumerate(segments):
-        e = lookup.get((int(a), int(b)))
-        if e is None:
-            e = lookup.get((int(b), int(a)))
-        if e is None:
-            raise ValueError(f"segment ({a}, {b}) is not an element edge")
-        out[k] = e
-    return out
+    elements = np.asarray(mesh.elements, dtype=np.int64)
+    n = np.int64(mesh.n_nodes)
+    # each element edge as the key a n + b, both directions (a segment may run either way)
+    a, b = elements.ravel(), np.roll(elements, -1, axis=1).ravel()
+    keys = np.concatenate([a * n + b, b * n + a])
+    owner = np.tile(np.repeat(np.arange(len(elements)), 4), 2)
+    order = np.argsort(keys, kind="stable")
+    keys, owner = keys[order], owner[order]
+    seg = np.asarray(segments, dtype=np.int64).reshape(-1, 2)
+    want = seg[:, 0] * n + seg[:, 1]
+    pos = np.minimum(np.searchsorted(keys, want), len(keys) - 1)
+    missing = keys[pos] != want
+    if np.any(missing):
+        a0, b0 = seg[np.argmax(missing)]
+        raise ValueError(f"segment ({a0}, {b0}) is not an element edge")
+    return owner[pos]
 
 
 def segment_stiffness(
