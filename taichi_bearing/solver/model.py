@@ -128,6 +128,9 @@ class Model:
     -----
     Taichi must be initialised first (:func:`taichi_bearing.solver.backend.init_taichi`).
     ``contributors`` is a list of :class:`ForceContributor` objects called every step.
+    The critical step is found at its first read (``dt``, ``dt_stable``,
+    ``critical_step``), after the contributors declared their bounds, and again after
+    any later bound.
     """
 
     def __init__(
@@ -193,8 +196,10 @@ class Model:
             if self.damped:
                 c = assembled_matrix(k_el * beta_e[:, None, None], elements, mass)
             self._global = (assembled_matrix(k_el, elements, mass), c)
-        self.dt = 0.0
-        self._set_critical_step()
+        # The critical step is found when first read (contributors add their bounds
+        # first); a step set with set_dt is kept while it stays stable.
+        self._step: tuple[float, float, float] | None = None
+        self._dt_set: float | None = None
 
         # ---- nodes
         self.X = _vec_field(nn)
@@ -367,24 +372,48 @@ class Model:
         self.first = True
         self.step_count = 0
 
-    def _set_critical_step(self) -> None:
-        """``dt_stable`` (and ``dt`` when it was the stable step) from the chosen estimate;
-        ``damping_step_factor`` says by how much stiffness damping shortened it."""
-        was_stable = self.dt == 0.0 or self.dt == self.dt_stable
-        if self._global is None:
-            step = float(self.element_dt.min())
-            undamped = 2.0 / self._omega_e_max
-        else:
-            k, c = self._global
-            omega, zeta = assembled_max_frequency(
-                k, self.mass_np, c, self.node_stiffness, self.node_damping
-            )
-            step = float(critical_time_steps(np.array([omega]), 2.0 * zeta / omega)[0])
-            undamped = 2.0 / omega
-        self.critical_step = step
-        self.damping_step_factor = step / undamped
-        self.dt_stable = self.dt_factor * step
-        self.dt = self.dt_stable if was_stable else min(self.dt, self.dt_stable)
+    def _critical(self) -> tuple[float, float, float]:
+        """(critical step, damping step factor, stable step) of the chosen estimate, found
+        again after a bound was added."""
+        if self._step is None:
+            if self._global is None:
+                step = float(self.element_dt.min())
+                self._step = (step, step * self._omega_e_max / 2.0, self.dt_factor * step)
+            else:
+                k, c = self._global
+                self._step = self._step_of(
+                    *assembled_max_frequency(
+                        k, self.mass_np, c, self.node_stiffness, self.node_damping
+                    )
+                )
+        return self._step
+
+    def _step_of(self, omega: float, zeta: float) -> tuple[float, float, float]:
+        """(critical step, damping step factor, stable step) of a top mode."""
+        step = float(critical_time_steps(np.array([omega]), 2.0 * zeta / omega)[0])
+        return step, step * omega / 2.0, self.dt_factor * step
+
+    @property
+    def critical_step(self) -> float:
+        """Critical step of the chosen estimate, s (damping included)."""
+        return self._critical()[0]
+
+    @property
+    def damping_step_factor(self) -> float:
+        """By how much damping shortened the critical step (1 = not at all)."""
+        return self._critical()[1]
+
+    @property
+    def dt_stable(self) -> float:
+        """``dt_factor`` times the critical step, s."""
+        return self._critical()[2]
+
+    @property
+    def dt(self) -> float:
+        """Time step, s: the stable one, or the one given to :meth:`set_dt` (lowered to
+        the stable one if a later bound made that smaller)."""
+        stable = self.dt_stable
+        return stable if self._dt_set is None else min(self._dt_set, stable)
 
     def add_stiffness_bound(
         self, nodes: np.ndarray, stiffness: np.ndarray, damping: np.ndarray | float = 0.0
@@ -392,18 +421,17 @@ class Model:
         """Declare the springs (N/m) and dashpots (N s/m) a force contributor can add at
         ``nodes``, each as if to ground in both directions (a spring ``k`` between two
         nodes is bounded by ``2 k`` on each). With ``time_step="global"`` the critical
-        step is found again with them; the element estimate ignores them."""
+        step takes them in; the element estimate ignores them."""
         idx = np.asarray(nodes, dtype=np.int64)
         np.add.at(self.node_stiffness, idx, stiffness)
         np.add.at(self.node_damping, idx, damping)
-        if self._global is not None:
-            self._set_critical_step()
+        self._step = None
 
     def set_dt(self, dt: float) -> None:
         """Use a time step not above the stable one (e.g. to fit the output interval)."""
         if not 0 < dt <= self.dt_stable * (1 + 1e-12):
             raise ValueError(f"dt {dt!r} must lie in (0, {self.dt_stable!r}] (stable step)")
-        self.dt = float(dt)
+        self._dt_set = float(dt)
 
     @property
     def time(self) -> float:
@@ -870,7 +898,7 @@ class Model:
             field.from_numpy(a)
         self.step_count = int(arrays["step_count"])
         self.first = bool(arrays["first"])
-        self.dt = float(arrays["dt"])
+        self._dt_set = float(arrays["dt"])
 
 
 def rigid_velocity_field(
