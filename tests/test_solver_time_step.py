@@ -10,7 +10,7 @@ import pytest
 
 from taichi_bearing.mesh.primitives import rectangle_mesh
 from taichi_bearing.solver.backend import init_taichi
-from taichi_bearing.solver.contact_setup import penalty_bounds
+from taichi_bearing.solver.contact_setup import penalty_bounds, window_share
 from taichi_bearing.solver.damping import StiffnessDamping
 from taichi_bearing.solver.materials import Material
 from taichi_bearing.solver.model import Model
@@ -88,34 +88,63 @@ def test_contact_bound_adds_to_the_global_estimate_only():
 
 
 @pytest.mark.parametrize("ratio", [0.5, 1.0, 1.4, 2.0, 2.7])
-def test_penalty_bound_dominates_every_spring_arrangement(ratio):
+@pytest.mark.parametrize("spacing", ["uniform", "short segments"])
+def test_penalty_bound_dominates_every_spring_and_dashpot_arrangement(ratio, spacing):
     # A chain of query nodes pressed onto a chain of segments (ratio = segment length /
-    # query spacing), each query node on a spring k to its foot point N1 x1 + N2 x2. The
-    # springs' stiffness matrix P (one direction) must lie below the bound's diagonal D
-    # for every offset of the two chains: D - P positive semidefinite.
+    # query spacing), each query node on a spring k to its foot point N1 x1 + N2 x2, and
+    # on a dashpot 2 zeta sqrt(k m_eff) (m_eff of the node and the foot point, random
+    # masses). The springs' matrix P and the dashpots' matrix C (one direction) must lie
+    # below the bound's diagonals for every offset of the two chains: D - P and E - C
+    # positive semidefinite. "short segments": two query spacings cut to a fifth (a
+    # spall's walls), which the bound takes in only where they are.
     n_seg = 12
     seg_x = np.arange(n_seg + 1, dtype=float)
+    zeta = 0.2
+    rng = np.random.default_rng(int(10 * ratio))
     for offset in np.linspace(0.0, 1.0, 7):
-        q_x = np.arange(offset, n_seg, 1.0 / ratio)
+        gaps = np.full(int(n_seg * ratio) + 2, 1.0 / ratio)
+        if spacing == "short segments":
+            gaps[len(gaps) // 2 : len(gaps) // 2 + 2] *= 0.2
+        q_x = offset + np.concatenate([[0.0], np.cumsum(gaps)])
         q_x = q_x[q_x < n_seg]
         n_q = len(q_x)
         nodes = np.zeros((n_seg + 1 + n_q, 2))
         nodes[: n_seg + 1, 0] = seg_x
         nodes[n_seg + 1 :, 0] = q_x
+        mass = rng.uniform(0.5, 2.0, len(nodes))
         segs = np.stack([np.arange(n_seg), np.arange(1, n_seg + 1)], axis=1)
         q_ids = n_seg + 1 + np.arange(n_q)
         q_segs = np.stack([q_ids[:-1], q_ids[1:]], axis=1)
         k = 3.0
-        k_node, _ = penalty_bounds(
-            nodes, [(q_segs, segs, np.full(n_seg, k))], np.ones(len(nodes)), 0.2
-        )
+        k_node, c_node = penalty_bounds(nodes, [(q_segs, segs, np.full(n_seg, k))], mass, zeta)
         P = np.zeros((len(nodes), len(nodes)))
+        C = np.zeros_like(P)
         for j, x in zip(q_ids, q_x, strict=True):
             s = min(int(x), n_seg - 1)
+            xi = x - s
             g = np.zeros(len(nodes))
             g[j] = 1.0
-            g[s] -= 1.0 - (x - s)
-            g[s + 1] -= x - s
+            g[s] -= 1.0 - xi
+            g[s + 1] -= xi
             P += k * np.outer(g, g)
+            m_s = (1.0 - xi) * mass[s] + xi * mass[s + 1]
+            m_eff = mass[j] * m_s / (mass[j] + m_s)
+            C += 2.0 * zeta * np.sqrt(k * m_eff) * np.outer(g, g)
         worst = np.linalg.eigvalsh(np.diag(k_node) - P)[0]
         assert worst > -1e-9 * k, (offset, worst)
+        worst = np.linalg.eigvalsh(np.diag(c_node) - C)[0]
+        assert worst > -1e-9 * k, (offset, "dashpots", worst)
+
+
+def test_window_share_counts_short_segments_only_where_they_are():
+    # Query nodes at 0, 1, 2, 3, 3.2, 3.4, 4.4, 5.4 (two short segments in a unit-spaced
+    # chain), segments of length 1: the largest sum of hats max(0, 1 - s) is at 3.2:
+    # 0.8 + 1 + 0.8 = 2.6. A bound from the shortest spacing alone (as if all were 0.2)
+    # would be 1 + 2 (0.8 + 0.6 + 0.4 + 0.2) = 5.
+    x = np.array([0.0, 1.0, 2.0, 3.0, 3.2, 3.4, 4.4, 5.4])
+    nodes = np.stack([x, np.zeros_like(x)], axis=1)
+    chain = np.stack([np.arange(7), np.arange(1, 8)], axis=1)
+    assert window_share(nodes, chain, 1.0) == pytest.approx(2.6, rel=1e-12)
+    # uniform spacing h: 1 + 2 sum_j (1 - j h / L)
+    uniform = np.stack([np.arange(8.0), np.zeros(8)], axis=1)
+    assert window_share(uniform, chain, 2.5) == pytest.approx(1 + 2 * (0.6 + 0.2))

@@ -196,7 +196,8 @@ class RigidCage:
             if pen > self._capture:
                 side = 0
             if side == 0 or side != self.side[n]:
-                self.diss[0] += self.et[n]  # friction spring released
+                if self.et[n] != 0.0:  # (most nodes: no atomic add on the shared sum)
+                    self.diss[0] += self.et[n]  # friction spring released
                 self.ft[n] = 0.0
                 self.et[n] = 0.0
             self.side[n] = side

@@ -302,14 +302,17 @@ class PenaltyContact:
 
     @ti.func
     def _open(self, q):
-        """No contact: the tangential spring's energy is lost (counted as friction)."""
-        self.diss[0] += self.q_et[q]
-        self.q_seg[q] = -1
-        self.q_ft[q] = 0.0
-        self.q_fn[q] = 0.0
-        self.q_gap[q] = 0.0
-        self.q_en[q] = 0.0
-        self.q_et[q] = 0.0
+        """No contact: the tangential spring's energy is lost (counted as friction).
+        Nothing to do for a query already open (most of them: no atomic add to the
+        shared sum, which every thread would fight over)."""
+        if self.q_seg[q] >= 0:
+            self.diss[0] += self.q_et[q]
+            self.q_seg[q] = -1
+            self.q_ft[q] = 0.0
+            self.q_fn[q] = 0.0
+            self.q_gap[q] = 0.0
+            self.q_en[q] = 0.0
+            self.q_et[q] = 0.0
 
     @ti.func
     def _candidate(self, S, i, k, xp, x: ti.template()):

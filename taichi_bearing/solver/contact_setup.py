@@ -25,6 +25,7 @@ __all__ = [
     "segment_elements",
     "penalty_bounds",
     "segment_stiffness",
+    "window_share",
 ]
 
 PENALTY_METHODS = ("segment", "soft")
@@ -156,6 +157,37 @@ def segment_stiffness(
     return scale * bulk * (length * thickness) ** 2 / (element_area[elem] * thickness)
 
 
+def window_share(nodes: np.ndarray, surface_segments: np.ndarray, length: float) -> float:
+    """Largest ``sum_j max(0, 1 - s_j / length)`` over the nodes of a surface (chains of
+    segments), ``s_j`` the arc distance from one of its nodes to node j (itself included):
+    the most the shape functions ``N`` of a segment node can gather from that surface's
+    nodes laid along its two segments of at most ``length`` each. Uniform spacing ``h``
+    gives ``1 + 2 sum_j (1 - j h / length)``; a few short segments (a spall's walls)
+    raise it only where they are. The sum of hats peaks at a node, so the nodes are the
+    only candidates."""
+    X = np.asarray(nodes, dtype=float)
+    segs = np.asarray(surface_segments, dtype=np.int64).reshape(-1, 2)
+    seg_len = np.linalg.norm(X[segs[:, 1]] - X[segs[:, 0]], axis=1)
+    links: dict[int, list[tuple[int, float]]] = {}
+    for (a, b), ln in zip(segs.tolist(), seg_len.tolist(), strict=True):
+        links.setdefault(a, []).append((b, ln))
+        links.setdefault(b, []).append((a, ln))
+    best = 1.0
+    for j, first in links.items():
+        total = 1.0
+        for nxt, ln in first:  # walk each way along the chain
+            prev, cur, dist = j, nxt, ln
+            while dist < length:
+                total += 1.0 - dist / length
+                ahead = [(n, lk) for n, lk in links[cur] if n != prev]
+                if not ahead or ahead[0][0] == j:
+                    break
+                prev, (cur, lk) = cur, ahead[0]
+                dist += lk
+        best = max(best, total)
+    return best
+
+
 def penalty_bounds(
     nodes: np.ndarray,
     passes: Sequence[tuple[np.ndarray, np.ndarray, np.ndarray]],
@@ -171,10 +203,12 @@ def penalty_bounds(
     ``(x_s - N1 x1 - N2 x2)^2 <= 2 (x_s^2 + N1 x1^2 + N2 x2^2)``, the spring is bounded by
     ``2 k`` on the query node and ``2 k N_i`` on each segment node, where the ``N_i`` of
     all the query nodes on a segment node's two segments sum to at most
-    ``1 + 2 sum_j (1 - j / r)`` over ``1 <= j < r``, ``r = L_segment / L_query``
-    (1 for ``r <= 1``). One body touches a surface at a time, so each role takes its
-    largest pass. Dashpots ``2 zeta sqrt(k m)`` (``m`` at most the node's own mass) are
-    bounded the same way.
+    :func:`window_share` of the querying surface (query nodes laid along the segments).
+    One body touches a surface at a time, so each role takes its largest pass. A dashpot
+    ``2 zeta sqrt(k m_eff)``, ``m_eff = m_q m_s / (m_q + m_s)`` of the query node and the
+    segment point, is bounded the same way with the largest ``m_eff`` the pass allows
+    (heaviest node on the other side, heaviest of the node and its neighbours on the
+    segment side).
 
     Parameters
     ----------
@@ -193,28 +227,39 @@ def penalty_bounds(
     """
     X = np.asarray(nodes, dtype=float)
     m = np.asarray(nodal_mass, dtype=float)
-    k_query = np.zeros(len(m))  # largest spring held as a query node
-    k_seg_node = np.zeros(len(m))  # largest sum of springs held as a segment node
-    share_of = np.zeros(len(m))
+    k_node = np.zeros(len(m))  # largest bound over the passes, per role
+    k_seg_role = np.zeros(len(m))
+    c_node = np.zeros(len(m))
+    c_seg_role = np.zeros(len(m))
+    shares: dict[tuple[bytes, float], float] = {}
 
-    def lengths(segs: np.ndarray) -> np.ndarray:
-        return np.linalg.norm(X[segs[:, 1]] - X[segs[:, 0]], axis=1)
+    def heavier(a: float | np.ndarray, b: float | np.ndarray):
+        return a * b / (a + b)  # the largest m_eff for masses up to a and b
 
     for query_segs, segs, k_seg in passes:
         q = np.unique(query_segs)
-        k_query[q] = np.maximum(k_query[q], float(np.max(k_seg)))
-        r = float(np.max(lengths(segs)) / np.min(lengths(query_segs)))
-        share = 1.0 + 2.0 * sum(1.0 - j / r for j in range(1, math.ceil(r)))
-        local = np.zeros(len(m))  # largest stiffness of the segments at each node
+        seg_nodes = np.unique(segs)
+        k_max = float(np.max(k_seg))
+        m_eff_q = heavier(m[q], float(m[seg_nodes].max()))
+        k_node[q] = np.maximum(k_node[q], 2.0 * k_max)
+        c_node[q] = np.maximum(c_node[q], 4.0 * damping_ratio * np.sqrt(k_max * m_eff_q))
+        length = float(np.max(np.linalg.norm(X[segs[:, 1]] - X[segs[:, 0]], axis=1)))
+        key = (np.ascontiguousarray(query_segs).tobytes(), length)
+        if key not in shares:
+            shares[key] = window_share(X, query_segs, length)
+        share = shares[key]
+        local_k = np.zeros(len(m))  # stiffest segment at each node
+        local_m = np.zeros(len(m))  # heaviest node of the segments at each node
         for end in (0, 1):
-            np.maximum.at(local, segs[:, end], k_seg)
-        more = share * local > k_seg_node * share_of
-        k_seg_node[more] = local[more]
-        share_of[more] = share
-    # springs 2 k; dashpots 2 c with c = 2 zeta sqrt(k m_eff), m_eff <= the node's mass
-    k_node = 2.0 * (k_query + share_of * k_seg_node)
-    c_node = 4.0 * damping_ratio * (np.sqrt(k_query * m) + share_of * np.sqrt(k_seg_node * m))
-    return k_node, c_node
+            np.maximum.at(local_k, segs[:, end], k_seg)
+            np.maximum.at(local_m, segs[:, end], np.maximum(m[segs[:, 0]], m[segs[:, 1]]))
+        m_eff_s = heavier(float(m[q].max()), local_m[seg_nodes])
+        k_seg_role[seg_nodes] = np.maximum(k_seg_role[seg_nodes], 2.0 * share * local_k[seg_nodes])
+        c_seg_role[seg_nodes] = np.maximum(
+            c_seg_role[seg_nodes],
+            4.0 * damping_ratio * share * np.sqrt(local_k[seg_nodes] * m_eff_s),
+        )
+    return k_node + k_seg_role, c_node + c_seg_role
 
 
 def _vertex_curvature(p: np.ndarray, a: np.ndarray, b: np.ndarray) -> np.ndarray:
