@@ -64,8 +64,8 @@ def test_default_case_in_si(default_case_path):
     assert case.defect.angle == 0.0 and case.defect.race == "outer" and case.defect.present
     assert case.defect.length == pytest.approx(0.01)
     assert case.defect.depth == pytest.approx(2e-4)
-    assert case.run.duration == pytest.approx(0.035)
-    assert case.run.first_roller_angle == pytest.approx(math.radians(-5.0))
+    assert case.run.duration == pytest.approx(0.0335)
+    assert case.run.first_roller_angle == pytest.approx(math.radians(-4.0))
     assert case.run.sample_rate == pytest.approx(1e5)
     assert case.contact.friction_decay == pytest.approx(1.0)
     assert case.cage.mass == pytest.approx(2.0)
