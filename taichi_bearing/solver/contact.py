@@ -33,10 +33,9 @@ its box grown by capture depth + margin overlaps, rebuilt when some surface node
 moved a quarter of the margin since the last build (checked on a schedule from the
 fastest surface node's speed, not every step). Each build lists the nodes within reach
 of a paired segment (capture depth + margin + patch reach); only those are visited, each
-reading its own cell. No shape
-assumption (circles, flats, spall walls alike); the cost is linear in the number of
-surface nodes as long as the bodies stay in the box the grid was sized for
-(outside it, points fall into the border cells: still correct, slower).
+reading its own cell. No shape assumption (circles, flats, spall walls alike); the cost
+is linear in the number of surface nodes as long as the bodies stay in the box the grid
+was sized for (outside it, points fall into the border cells: still correct, slower).
 """
 
 # No `from __future__ import annotations`: Taichi reads kernel annotations at definition.
@@ -373,7 +372,7 @@ class PenaltyContact:
                 if self.q_near[q] != 0:
                     self.q_active[n] = q
                     n += 1
-                elif self.q_seg[q] >= 0:
+                else:
                     self._open(q)
             self.status[1] = n
 

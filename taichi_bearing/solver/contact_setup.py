@@ -227,22 +227,23 @@ def penalty_bounds(
     """
     X = np.asarray(nodes, dtype=float)
     m = np.asarray(nodal_mass, dtype=float)
-    k_node = np.zeros(len(m))  # largest bound over the passes, per role
-    k_seg_role = np.zeros(len(m))
-    c_node = np.zeros(len(m))
-    c_seg_role = np.zeros(len(m))
+    # largest bound over the passes, per role
+    k_query_role, k_seg_role = np.zeros(len(m)), np.zeros(len(m))
+    c_query_role, c_seg_role = np.zeros(len(m)), np.zeros(len(m))
     shares: dict[tuple[bytes, float], float] = {}
 
-    def heavier(a: float | np.ndarray, b: float | np.ndarray):
-        return a * b / (a + b)  # the largest m_eff for masses up to a and b
+    def reduced_mass(a: float | np.ndarray, b: float | np.ndarray):
+        return a * b / (a + b)  # increasing in both: a bound from bounds on a and b
 
     for query_segs, segs, k_seg in passes:
         q = np.unique(query_segs)
         seg_nodes = np.unique(segs)
         k_max = float(np.max(k_seg))
-        m_eff_q = heavier(m[q], float(m[seg_nodes].max()))
-        k_node[q] = np.maximum(k_node[q], 2.0 * k_max)
-        c_node[q] = np.maximum(c_node[q], 4.0 * damping_ratio * np.sqrt(k_max * m_eff_q))
+        m_eff_q = reduced_mass(m[q], float(m[seg_nodes].max()))
+        k_query_role[q] = np.maximum(k_query_role[q], 2.0 * k_max)
+        c_query_role[q] = np.maximum(
+            c_query_role[q], 4.0 * damping_ratio * np.sqrt(k_max * m_eff_q)
+        )
         length = float(np.max(np.linalg.norm(X[segs[:, 1]] - X[segs[:, 0]], axis=1)))
         key = (np.ascontiguousarray(query_segs).tobytes(), length)
         if key not in shares:
@@ -253,13 +254,13 @@ def penalty_bounds(
         for end in (0, 1):
             np.maximum.at(local_k, segs[:, end], k_seg)
             np.maximum.at(local_m, segs[:, end], np.maximum(m[segs[:, 0]], m[segs[:, 1]]))
-        m_eff_s = heavier(float(m[q].max()), local_m[seg_nodes])
+        m_eff_s = reduced_mass(float(m[q].max()), local_m[seg_nodes])
         k_seg_role[seg_nodes] = np.maximum(k_seg_role[seg_nodes], 2.0 * share * local_k[seg_nodes])
         c_seg_role[seg_nodes] = np.maximum(
             c_seg_role[seg_nodes],
             4.0 * damping_ratio * share * np.sqrt(local_k[seg_nodes] * m_eff_s),
         )
-    return k_node + k_seg_role, c_node + c_seg_role
+    return k_query_role + k_seg_role, c_query_role + c_seg_role
 
 
 def _vertex_curvature(p: np.ndarray, a: np.ndarray, b: np.ndarray) -> np.ndarray:

@@ -377,21 +377,16 @@ class Model:
         again after a bound was added."""
         if self._step is None:
             if self._global is None:
-                step = float(self.element_dt.min())
-                self._step = (step, step * self._omega_e_max / 2.0, self.dt_factor * step)
+                step, undamped = float(self.element_dt.min()), 2.0 / self._omega_e_max
             else:
                 k, c = self._global
-                self._step = self._step_of(
-                    *assembled_max_frequency(
-                        k, self.mass_np, c, self.node_stiffness, self.node_damping
-                    )
+                omega, zeta = assembled_max_frequency(
+                    k, self.mass_np, c, self.node_stiffness, self.node_damping
                 )
+                step = float(critical_time_steps(np.array([omega]), 2.0 * zeta / omega)[0])
+                undamped = 2.0 / omega
+            self._step = (step, step / undamped, self.dt_factor * step)
         return self._step
-
-    def _step_of(self, omega: float, zeta: float) -> tuple[float, float, float]:
-        """(critical step, damping step factor, stable step) of a top mode."""
-        step = float(critical_time_steps(np.array([omega]), 2.0 * zeta / omega)[0])
-        return step, step * omega / 2.0, self.dt_factor * step
 
     @property
     def critical_step(self) -> float:
