@@ -2,9 +2,11 @@
 
 Runs the case (default ``cases/line_spall.yaml``) through mesh and preload, then a SHORT
 transient of ``--duration-ms`` (default 0.3 ms) with contact and every recorder, as the run
-does it (contact and cage fused into the model's step kernels), and extrapolates it to the
-case's full duration (labelled as such). In the same process, from the same state: the
-transient again with each contributor's own kernel, timed (where the time goes: element
+does it (contact and cage fused into the model's step kernels; on several CPU threads many
+steps per launch by team stepping), and extrapolates it to the case's full duration
+(labelled as such). In the same process, from the same state: the transient again with
+one launch of parallel loops per step (the path before team stepping), with each
+contributor's own kernel, timed (where the time goes: element
 and node kernels, contact, cage), and the baseline, the model stepped without contact
 (element forces, nodes, loads only). Recording: sensor sums read-out, energies, recorders,
 history writing (everything in the time loop outside the steps).
@@ -109,6 +111,10 @@ def main() -> None:
     # --- the run's own path: contact and cage fused into the step kernels
     res, total, step_fused = transient(None)
     steps = res.steps
+    # --- the same with one launch of parallel loops per step (no team stepping)
+    model._team_size = lambda fused: 0  # shadows the method on this instance
+    _, total_per_step, _ = transient(None)
+    del model._team_size
     # --- the same with each contributor's own kernel, timed
     timed = [_Timed(c) for c in originals]
     _, total_unfused, step_unfused = transient(timed)
@@ -121,7 +127,7 @@ def main() -> None:
     model.set_dt(dt)
     model.advance(10)  # compile
     t0 = time.perf_counter()
-    model.advance(steps)  # as the run would step it (serial kernels on one thread)
+    model.advance(steps)  # as the run would step it
     base = time.perf_counter() - t0
 
     full_steps = round(case.run.duration / res.dt)
@@ -138,12 +144,15 @@ def main() -> None:
     print(f"{'transient, measured':40s} {total:10.2f} {steps:9d} {ne * steps / total:13.3g}")
     print(f"{'transient, extrapolated (full duration)':40s} {total * scale:10.1f} "
           f"{full_steps:9d} {ne * steps / total:13.3g}")  # fmt: skip
+    print(f"{'transient, one launch per step':40s} {total_per_step:10.2f} {steps:9d} "
+          f"{ne * steps / total_per_step:13.3g}")  # fmt: skip
     print(f"{'baseline: no contact, same steps':40s} {base:10.2f} {steps:9d} "
           f"{ne * steps / base:13.3g}")  # fmt: skip
     print(f"{'transient, contributors unfused (timed)':40s} {total_unfused:10.2f} {steps:9d} "
           f"{ne * steps / total_unfused:13.3g}")  # fmt: skip
     print()
     print(f"fused / unfused wall time: {total / total_unfused:.2f}")
+    print(f"run's path / one launch per step: {total / total_per_step:.2f}")
     print(f"recording (samples, files): {100 * (total - step_fused) / total:.1f} % of the "
           "fused transient")  # fmt: skip
     elem = step_unfused - contact_s

@@ -172,67 +172,105 @@ class RigidCage:
         step kernel calls this directly)."""
         ti.loop_config(serialize=True)  # a few rollers
         for j in range(self.n_rollers):
-            self.cur[j] = ti.Vector.zero(ti.f64, 3)
-            phi = self.angle0[j] + self.state[0]
-            self.radial[j] = ti.Vector([ti.cos(phi), ti.sin(phi)])
-        self.state[2] = 0.0
+            self._frame(j)
         ti.loop_config(serialize=self._serial_light)
         for n in range(self.n_nodes):
-            w = self.state[1]
-            i = self.node[n]
-            j = self.roller[n]
-            er = self.radial[j]
-            et = ti.Vector([-er[1], er[0]])
-            d = x[i] - ti.Vector([self._cx, self._cy])
-            s = d.dot(et)
-            r = d.dot(er)
-            side = 0
-            pen = 0.0
-            if r >= self._r_in and r <= self._r_out:
-                if s > self._h:
-                    side, pen = 1, s - self._h
-                elif s < -self._h:
-                    side, pen = -1, -self._h - s
-            if pen > self._capture:
-                side = 0
-            if side == 0 or side != self.side[n]:
-                if self.et[n] != 0.0:  # (most nodes: no atomic add on the shared sum)
-                    self.diss[0] += self.et[n]  # friction spring released
-                self.ft[n] = 0.0
-                self.et[n] = 0.0
-            self.side[n] = side
-            self.en[n] = 0.0
-            if side != 0:
-                nv = -float(side) * et  # pushes the node back into the pocket
-                k = self.k[n]
-                m = mass[i]
-                if ti.static(self._soft):
-                    k = self._scale * m / (dt * dt)
-                vrel = v[i] - w * ti.Vector([-d[1], d[0]])
-                vn = vrel.dot(nv)
-                vt = vrel.dot(er)
-                fn, e_damp = normal_force(k, pen, self._zeta, m, vn, dt)
-                ft, e_t, e_fric = friction_force(
-                    self.ft[n], self.et[n], k, vt, fn, dt, self._mu_s, self._mu_d, self._decay
-                )
-                F = fn * nv + ft * er
-                f_ext[i] += F
-                self.cur[j] += ti.Vector([F[0], F[1], F.dot(et)])
-                # Reaction -F on the cage at d: torque d x (-F).
-                self.state[2] += -(d[0] * F[1] - d[1] * F[0])
-                self.ft[n] = ft
-                self.et[n] = e_t
-                self.en[n] = 0.5 * k * pen * pen
-                self.diss[0] += e_fric
-                self.diss[1] += e_damp
-        ti.loop_config(serialize=True)
-        for j in range(self.n_rollers):
-            self.acc[j] += self.cur[j]
+            self._pocket(n, x, v, mass, f_ext, dt)
         ti.loop_config(serialize=True)
         for _ in range(1):
-            w_new = self.state[1] + dt_v * self.state[2] / self.inertia
-            self.state[1] = w_new
-            self.state[0] = self.state[0] + dt * w_new
+            self._turn(dt, dt_v)
+
+    @ti.func
+    def team_begin(self, member, n_members):
+        """Team stepping: nothing to clear (member 0 does it all in :meth:`team_end`)."""
+        pass
+
+    @ti.func
+    def team_share(self, member, n_members, x: ti.template(), v: ti.template(),
+                   mass: ti.template(), f_ext: ti.template(), dt, dt_v):  # fmt: skip
+        """Team stepping: no share (a few thousand light items, see :meth:`team_end`)."""
+        pass
+
+    @ti.func
+    def team_end(self, x: ti.template(), v: ti.template(), mass: ti.template(),
+                 f_ext: ti.template(), dt, dt_v):  # fmt: skip
+        """Member 0 after the contact: the whole of :meth:`step_forces`."""
+        for j in range(self.n_rollers):
+            self._frame(j)
+        for n in range(self.n_nodes):
+            self._pocket(n, x, v, mass, f_ext, dt)
+        self._turn(dt, dt_v)
+
+    @ti.func
+    def _frame(self, j):
+        """Pocket j's radial direction this step; its force sum restarts (and so does
+        the torque, once, with pocket 0)."""
+        self.cur[j] = ti.Vector.zero(ti.f64, 3)
+        phi = self.angle0[j] + self.state[0]
+        self.radial[j] = ti.Vector([ti.cos(phi), ti.sin(phi)])
+        if j == 0:
+            self.state[2] = 0.0
+
+    @ti.func
+    def _pocket(self, n, x: ti.template(), v: ti.template(), mass: ti.template(),
+                f_ext: ti.template(), dt):  # fmt: skip
+        """Pocket force on roller node n (none outside the pocket walls' reach)."""
+        w = self.state[1]
+        i = self.node[n]
+        j = self.roller[n]
+        er = self.radial[j]
+        et = ti.Vector([-er[1], er[0]])
+        d = x[i] - ti.Vector([self._cx, self._cy])
+        s = d.dot(et)
+        r = d.dot(er)
+        side = 0
+        pen = 0.0
+        if r >= self._r_in and r <= self._r_out:
+            if s > self._h:
+                side, pen = 1, s - self._h
+            elif s < -self._h:
+                side, pen = -1, -self._h - s
+        if pen > self._capture:
+            side = 0
+        if side == 0 or side != self.side[n]:
+            if self.et[n] != 0.0:  # (most nodes: no atomic add on the shared sum)
+                self.diss[0] += self.et[n]  # friction spring released
+            self.ft[n] = 0.0
+            self.et[n] = 0.0
+        self.side[n] = side
+        self.en[n] = 0.0
+        if side != 0:
+            nv = -float(side) * et  # pushes the node back into the pocket
+            k = self.k[n]
+            m = mass[i]
+            if ti.static(self._soft):
+                k = self._scale * m / (dt * dt)
+            vrel = v[i] - w * ti.Vector([-d[1], d[0]])
+            vn = vrel.dot(nv)
+            vt = vrel.dot(er)
+            fn, e_damp = normal_force(k, pen, self._zeta, m, vn, dt)
+            ft, e_t, e_fric = friction_force(
+                self.ft[n], self.et[n], k, vt, fn, dt, self._mu_s, self._mu_d, self._decay
+            )
+            F = fn * nv + ft * er
+            f_ext[i] += F
+            self.cur[j] += ti.Vector([F[0], F[1], F.dot(et)])
+            # Reaction -F on the cage at d: torque d x (-F).
+            self.state[2] += -(d[0] * F[1] - d[1] * F[0])
+            self.ft[n] = ft
+            self.et[n] = e_t
+            self.en[n] = 0.5 * k * pen * pen
+            self.diss[0] += e_fric
+            self.diss[1] += e_damp
+
+    @ti.func
+    def _turn(self, dt, dt_v):
+        """Pocket sums into the sample sums, then the cage's leapfrog step."""
+        for j in range(self.n_rollers):
+            self.acc[j] += self.cur[j]
+        w_new = self.state[1] + dt_v * self.state[2] / self.inertia
+        self.state[1] = w_new
+        self.state[0] = self.state[0] + dt * w_new
 
     # ------------------------------------------------------------------ ForceContributor
 

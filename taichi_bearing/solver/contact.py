@@ -57,7 +57,7 @@ from taichi_bearing.solver.contact_setup import (
     segment_end_corners,
     segment_stiffness,
 )
-from taichi_bearing.solver.model import Model
+from taichi_bearing.solver.model import Model, share
 
 __all__ = ["ContactPair", "ContactParameters", "PenaltyContact"]
 
@@ -448,53 +448,85 @@ class PenaltyContact:
             self.node_force[self.track[t]] = ti.Vector.zero(ti.f64, 2)
         ti.loop_config(serialize=self._serial)
         for qa in range(self.status[1]):
-            q = self.q_active[qa]
-            i = self.q_node[q]
-            S = self.q_surf[q]
-            xp = x[i]
-            cx, cy = self._cell_xy(xp)
-            c = cy * self._nx + cx
-            best = -1
-            best_d2 = 1e300
-            best_pen = 0.0
-            best_xi = 0.0
-            for k in range(self.cell_start[c], self.cell_start[c + 1]):
-                s, xi, d2 = self._candidate(S, i, k, xp, x)
-                # Closest segment (true distance, so an extended line beyond a convex
-                # vertex never wins); ties to the lower index.
-                if s >= 0 and (d2 < best_d2 or (d2 == best_d2 and s < best)):
-                    best, best_d2, best_xi = s, d2, xi
-                    a = x[self.seg_a[s]]
-                    d = x[self.seg_b[s]] - a
-                    l2 = d.dot(d)
-                    best_pen = -(xp - a).dot(ti.Vector([d[1], -d[0]])) / ti.sqrt(l2)
-                    # Against the arc: its offset from the chord (parabolic sagitta, zero
-                    # at the nodes) adds to the penetration.
-                    xc = ti.min(ti.max(xi, 0.0), 1.0)
-                    best_pen += 0.5 * self.seg_kappa[s] * l2 * xc * (1.0 - xc)
-            pen_eff = best_pen
-            e_el = 0.0
-            if ti.static(self._smooth):
-                if self.q_corner[q] != 0:
-                    # A corner of its own surface (a spall's edge): a point contact.
-                    e_el = 0.5 * ti.max(best_pen, 0.0) ** 2
-                else:
-                    # Most queries are far from contact: skip the patch when even a patch
-                    # of 1.5x the reference size, tilted 90 degrees, could not reach.
-                    hq = self.q_hmax[q]
-                    kap = ti.abs(self.q_kappa[q] + self.seg_kappa[best])
-                    reach = hq * (1.0 + 0.5 * kap * hq)
-                    if best >= 0 and best_pen + reach > 0.0:
-                        pen_eff, e_el, best_pen = self._patch(q, i, best, best_pen, best_xi, x)
-            if best_pen <= 0.0 or best_pen >= self._capture:
-                best = -1
-            if best < 0:
-                self._open(q)
-            else:
-                self._apply(q, i, S, best, pen_eff, e_el, best_xi, x, v, mass, f_ext, dt)
+            self._query(qa, x, v, mass, f_ext, dt)
         ti.loop_config(serialize=True)
         for p in range(self.n_pairs):
             self.acc[p] += self.cur[p]
+
+    @ti.func
+    def team_begin(self, member, n_members):
+        """Team stepping (see :class:`~taichi_bearing.solver.model.ForceContributor`):
+        clear this member's share of the tracked nodes' forces (member 0: the pairs')."""
+        if member == 0:
+            for p in range(self.n_pairs):
+                self.cur[p] = ti.Vector.zero(ti.f64, 4)
+        t0, t1 = share(self.n_track, member, n_members)
+        for t in range(t0, t1):
+            self.node_force[self.track[t]] = ti.Vector.zero(ti.f64, 2)
+
+    @ti.func
+    def team_share(self, member, n_members, x: ti.template(), v: ti.template(),
+                   mass: ti.template(), f_ext: ti.template(), dt, dt_v):  # fmt: skip
+        """This member's share of the listed queries."""
+        q0, q1 = share(self.status[1], member, n_members)
+        for qa in range(q0, q1):
+            self._query(qa, x, v, mass, f_ext, dt)
+
+    @ti.func
+    def team_end(self, x: ti.template(), v: ti.template(), mass: ti.template(),
+                 f_ext: ti.template(), dt, dt_v):  # fmt: skip
+        """Member 0, after every share: this step's pair resultants into the sums."""
+        for p in range(self.n_pairs):
+            self.acc[p] += self.cur[p]
+
+    @ti.func
+    def _query(self, qa, x: ti.template(), v: ti.template(), mass: ti.template(),
+               f_ext: ti.template(), dt):  # fmt: skip
+        """The contact of the ``qa``-th listed query: closest segment, patch, forces."""
+        q = self.q_active[qa]
+        i = self.q_node[q]
+        S = self.q_surf[q]
+        xp = x[i]
+        cx, cy = self._cell_xy(xp)
+        c = cy * self._nx + cx
+        best = -1
+        best_d2 = 1e300
+        best_pen = 0.0
+        best_xi = 0.0
+        for k in range(self.cell_start[c], self.cell_start[c + 1]):
+            s, xi, d2 = self._candidate(S, i, k, xp, x)
+            # Closest segment (true distance, so an extended line beyond a convex
+            # vertex never wins); ties to the lower index.
+            if s >= 0 and (d2 < best_d2 or (d2 == best_d2 and s < best)):
+                best, best_d2, best_xi = s, d2, xi
+                a = x[self.seg_a[s]]
+                d = x[self.seg_b[s]] - a
+                l2 = d.dot(d)
+                best_pen = -(xp - a).dot(ti.Vector([d[1], -d[0]])) / ti.sqrt(l2)
+                # Against the arc: its offset from the chord (parabolic sagitta, zero
+                # at the nodes) adds to the penetration.
+                xc = ti.min(ti.max(xi, 0.0), 1.0)
+                best_pen += 0.5 * self.seg_kappa[s] * l2 * xc * (1.0 - xc)
+        pen_eff = best_pen
+        e_el = 0.0
+        if ti.static(self._smooth):
+            if self.q_corner[q] != 0:
+                # A corner of its own surface (a spall's edge): a point contact.
+                e_el = 0.5 * ti.max(best_pen, 0.0) ** 2
+            else:
+                # Most queries are far from contact: skip the patch when even a patch
+                # of 1.5x the reference size, tilted 90 degrees, could not reach.
+                hq = self.q_hmax[q]
+                kap = ti.abs(self.q_kappa[q] + self.seg_kappa[best])
+                reach = hq * (1.0 + 0.5 * kap * hq)
+                if best >= 0 and best_pen + reach > 0.0:
+                    pen_eff, e_el, best_pen = self._patch(q, i, best, best_pen, best_xi, x)
+        if best_pen <= 0.0 or best_pen >= self._capture:
+            best = -1
+        if best < 0:
+            self._open(q)
+        else:
+            self._apply(q, i, S, best, pen_eff, e_el, best_xi, x, v, mass, f_ext, dt)
 
     @ti.func
     def _frame(self, s, xi, x: ti.template()):

@@ -11,10 +11,12 @@ One step (central difference, leapfrog) from time ``t_n``:
 4. sensor sums (averaged later over each output interval).
 
 Without contributors, steps 1-4 are one kernel launch; small meshes can also run many
-steps in one serial kernel (:meth:`Model.advance` chooses).
+steps in one serial kernel, and on several CPU threads many steps run in one launch as a
+team of persistent threads that meet at spin barriers (:meth:`Model.advance` chooses).
 """
 
 # No `from __future__ import annotations`: Taichi reads kernel annotations at definition.
+import os
 from collections.abc import Mapping, Sequence
 from typing import Protocol
 
@@ -22,7 +24,7 @@ import numpy as np
 import taichi as ti
 
 from taichi_bearing.mesh.types import Mesh
-from taichi_bearing.solver.backend import current_arch, serial_loops
+from taichi_bearing.solver.backend import current_arch, current_threads, serial_loops
 from taichi_bearing.solver.damping import StiffnessDamping
 from taichi_bearing.solver.element import (
     assembled_matrix,
@@ -50,6 +52,10 @@ _FIXED, _HELD, _ROT, _PLATE = 1, 2, 4, 8
 TIME_STEP_METHODS = ("element", "global")
 # Below this many elements a block of steps runs as one serial kernel (launch-bound regime).
 SERIAL_MAX_ELEMENTS = 3000
+# Team stepping: a barrier spin this long means a team member never came (then the launch
+# stops and advance raises): seconds, far beyond any one phase of a step.
+TEAM_SPIN_LIMIT = 1 << 28
+TEAM_MAX_THREADS = 256
 
 
 class ForceContributor(Protocol):
@@ -66,9 +72,23 @@ class ForceContributor(Protocol):
     ``step_forces(x, v, mass, f_ext, dt, dt_v)`` (the same forces as ``add_forces``),
     ``before_steps(model, n) -> int`` (Python, before up to ``n`` fused steps; returns how
     many may run before it needs Python again, at least 1) and ``after_steps(model, n)``.
+
+    For team stepping on several CPU threads (one launch runs many steps; the threads meet
+    at barriers) a fused contributor also defines the Taichi functions
+    ``team_begin(member, n_members)`` (before the forces: each member clears its share),
+    ``team_share(member, n_members, x, v, mass, f_ext, dt, dt_v)`` (each member's share of
+    the forces, beside its share of the elements; adds to shared nodes atomically) and
+    ``team_end(x, v, mass, f_ext, dt, dt_v)`` (member 0 alone, after all shares).
     """
 
     def add_forces(self, model: "Model", t: float) -> None: ...
+
+
+@ti.func
+def share(count, member, n_members):
+    """Member's contiguous share ``[lo, hi)`` of ``count`` items split among
+    ``n_members`` (team stepping)."""
+    return member * count // n_members, (member + 1) * count // n_members
 
 
 def _adjacency(elements: np.ndarray, n_nodes: int) -> tuple[np.ndarray, np.ndarray]:
@@ -235,6 +255,10 @@ class Model:
         self.von_mises = _scalar_field(ne)
         self.bad_element = ti.field(ti.i32, shape=())
         self.sums = ti.field(ti.f64, shape=6)
+        # team stepping: barrier counter, who joined, and a failed-barrier flag
+        self.team_bar = ti.field(ti.i64, shape=())
+        self.team_joined = ti.field(ti.i32, shape=TEAM_MAX_THREADS)
+        self.team_failed = ti.field(ti.i32, shape=())
 
         self.X.from_numpy(np.asarray(mesh.nodes, dtype=float))
         self.x.from_numpy(np.asarray(mesh.nodes, dtype=float))
@@ -646,8 +670,47 @@ class Model:
                 c.step_forces(self.x, self.v, self.mass, self.f_extra, dt, dt_v)
         self._node_loops(t_load, t_rot, dt, dt_v, first, c_mass, rec, serial)
 
+    @ti.func
+    def _step_times(self, k, n, step0, dt, first0, rec_last, relax):
+        """Step k of n launched together: (first, dt_v, rec, t_load, t_rot). The first
+        step after a restart is a half step for v; energies are recorded on the last;
+        dynamic relaxation holds loads at full value and rotations at angle 0."""
+        t = (step0 + k) * dt
+        first = 0
+        dt_v = dt
+        if first0 != 0 and k == 0:
+            first = 1
+            dt_v = 0.5 * dt
+        rec = 0
+        if rec_last != 0 and k == n - 1:
+            rec = 1
+        t_load = t
+        t_rot = t + dt
+        if relax != 0:
+            t_load = 1e300
+            t_rot = 0.0
+        return first, dt_v, rec, t_load, t_rot
+
+    @ti.func
+    def _barrier(self, passed, n_members):
+        """Spin until all ``n_members`` reached their ``passed + 1``-th barrier; returns
+        ``passed + 1``, or -1 (and sets ``team_failed``) if one never comes. The atomic
+        add is a full fence: what a member wrote before, the others read after."""
+        out = passed + 1
+        target = ti.i64(n_members) * out
+        seen = ti.atomic_add(self.team_bar[None], 1) + 1
+        spins = 0
+        while seen < target:
+            seen = ti.atomic_add(self.team_bar[None], 0)  # an atomic read, never hoisted
+            spins += 1
+            if spins > TEAM_SPIN_LIMIT:
+                self.team_failed[None] = 1
+                out = -1
+                break
+        return out
+
     @ti.kernel
-    def _k_steps_serial(
+    def _k_steps(
         self,
         n: ti.i32,
         step0: ti.i32,
@@ -658,34 +721,102 @@ class Model:
         damped: ti.template(),
         relax: ti.i32,
         fused: ti.template(),
+        n_members: ti.template(),
     ):
-        ti.loop_config(serialize=True)
+        # n steps in one launch: on the calling thread (n_members = 0) or by a team
+        if ti.static(n_members == 0):
+            ti.loop_config(serialize=True)
+            for k in range(n):
+                first, dt_v, rec, t_load, t_rot = self._step_times(
+                    k, n, step0, dt, first0, rec_last, relax
+                )
+                for e in range(self.n_elements):
+                    self._element(e, dt, damped, rec)
+                if ti.static(fused):
+                    for c in ti.static(self._fused):
+                        c.step_forces(self.x, self.v, self.mass, self.f_extra, dt, dt_v)
+                self._apply_loads(t_load)
+                self._plate_update(dt_v, c_mass)
+                for i in range(self.n_nodes):
+                    self._node(i, t_rot, dt, dt_v, first, c_mass, rec)
+                for s in range(self.n_sensor):
+                    self._sensor(s, dt, dt_v, first)
+        else:
+            # n steps in one launch on n_members threads. Each worker thread runs one member
+            # (its thread index) through all the steps, on a fixed share of the elements,
+            # contributor items and nodes; phases that need every share done meet at a
+            # barrier (~1 us) instead of ending a parallel loop (a thread-pool dispatch,
+            # ~100 us on the 2-core VM).
+            ti.loop_config(serialize=True)
+            for _ in range(1):
+                self.team_bar[None] = 0
+                self.team_failed[None] = 0
+                for j in range(TEAM_MAX_THREADS):
+                    self.team_joined[j] = 0
+            # Enough items for a task per thread (Taichi's CPU blocks are >= 512 items): a
+            # member busy in its first item cannot take another task, so every thread joins.
+            for _item in range(n_members * 1024):
+                m = ti.global_thread_idx()
+                if ti.atomic_add(self.team_joined[m], 1) == 0:
+                    self._team_member(
+                        m, n, step0, dt, first0, c_mass, rec_last, damped, relax, fused, n_members
+                    )
+
+    @ti.func
+    def _team_member(
+        self,
+        m,
+        n,
+        step0,
+        dt,
+        first0,
+        c_mass,
+        rec_last,
+        damped: ti.template(),
+        relax,
+        fused: ti.template(),
+        n_members: ti.template(),
+    ):
+        """Member m's n steps: its share of the elements, of the contributors' items and
+        of the nodes, and (member 0) the serial parts, with a barrier between phases."""
+        e0, e1 = share(self.n_elements, m, n_members)
+        i0, i1 = share(self.n_nodes, m, n_members)
+        passed = 0
         for k in range(n):
-            t = (step0 + k) * dt
-            first = 0
-            dt_v = dt
-            if first0 != 0 and k == 0:
-                first = 1
-                dt_v = 0.5 * dt
-            rec = 0
-            if rec_last != 0 and k == n - 1:
-                rec = 1
-            t_load = t
-            t_rot = t + dt
-            if relax != 0:
-                t_load = 1e300
-                t_rot = 0.0
-            for e in range(self.n_elements):
+            first, dt_v, rec, t_load, t_rot = self._step_times(
+                k, n, step0, dt, first0, rec_last, relax
+            )
+            if ti.static(fused):
+                for c in ti.static(self._fused):
+                    c.team_begin(m, n_members)
+            passed = self._barrier(passed, n_members)
+            if passed < 0:
+                break
+            for e in range(e0, e1):
                 self._element(e, dt, damped, rec)
             if ti.static(fused):
                 for c in ti.static(self._fused):
-                    c.step_forces(self.x, self.v, self.mass, self.f_extra, dt, dt_v)
-            self._apply_loads(t_load)
-            self._plate_update(dt_v, c_mass)
-            for i in range(self.n_nodes):
+                    c.team_share(m, n_members, self.x, self.v, self.mass, self.f_extra, dt, dt_v)
+            passed = self._barrier(passed, n_members)
+            if passed < 0:
+                break
+            if m == 0:
+                if ti.static(fused):
+                    for c in ti.static(self._fused):
+                        c.team_end(self.x, self.v, self.mass, self.f_extra, dt, dt_v)
+                self._apply_loads(t_load)
+                self._plate_update(dt_v, c_mass)
+            passed = self._barrier(passed, n_members)
+            if passed < 0:
+                break
+            for i in range(i0, i1):
                 self._node(i, t_rot, dt, dt_v, first, c_mass, rec)
-            for s in range(self.n_sensor):
-                self._sensor(s, dt, dt_v, first)
+            passed = self._barrier(passed, n_members)
+            if passed < 0:
+                break
+            if m == 0:
+                for s in range(self.n_sensor):
+                    self._sensor(s, dt, dt_v, first)
 
     @ti.kernel
     def _k_measure(self):
@@ -741,9 +872,11 @@ class Model:
         serial : bool, optional
             Run the steps serially, many in one kernel launch (default: on one CPU
             thread or a mesh of at most ``SERIAL_MAX_ELEMENTS`` elements, when the
-            contributors can be fused, see below). Otherwise each step is one kernel
-            launch with parallel loops (or two plus the contributors' own launches when
-            some contributor has no ``step_forces``).
+            contributors can be fused, see below). Otherwise, on several CPU threads,
+            many steps run in one launch as a team of threads (when the contributors
+            can be fused and take part, see :class:`ForceContributor`); else each step
+            is one kernel launch with parallel loops (or two plus the contributors' own
+            launches when some contributor has no ``step_forces``).
         relax_damping : float, optional
             Dynamic relaxation: mass-damping coefficient c (1/s); loads at full value,
             prescribed rotations held at angle 0, time not advanced.
@@ -762,7 +895,8 @@ class Model:
             raise ValueError("serial stepping cannot call force contributors without step_forces")
         dt, damped = self.dt, int(self.damped)
         fused_list = self._fused if fused else ()
-        if serial:
+        team = not serial and self._team_size(fused)
+        if serial or team:
             # Chunks of steps in one launch (a launch costs ~30 us); a contributor can ask
             # for a break (the contact's search-grid check).
             done = 0
@@ -771,10 +905,14 @@ class Model:
                 for c in fused_list:
                     chunk = max(1, min(chunk, c.before_steps(self, chunk)))
                 last = int(record_last and done + chunk == n)
-                self._k_steps_serial(
-                    chunk, self.step_count, dt, int(self.first), c_mass, last, damped,
-                    int(relax), fused,
-                )  # fmt: skip
+                args = (chunk, self.step_count, dt, int(self.first), c_mass, last, damped,
+                        int(relax), fused)  # fmt: skip
+                self._k_steps(*args, team)
+                if team and self.team_failed[None]:
+                    raise RuntimeError(
+                        f"team stepping: a barrier waited in vain for one of {team} CPU "
+                        "threads; run with one thread (--threads 1)"
+                    )
                 for c in fused_list:
                     c.after_steps(self, chunk)
                 self.first = False
@@ -803,6 +941,21 @@ class Model:
             self.first = False
             if not relax:
                 self.step_count += 1
+
+    def _team_size(self, fused: bool) -> int:
+        """Threads for team stepping (0 = not used): CPU with several threads, no more
+        than the cores this process may run on (a member spinning at a barrier while
+        another waits for a core would waste its time slice), and every contributor
+        fused with its team functions."""
+        threads = current_threads()
+        cores = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else None
+        if current_arch() != "cpu" or not 2 <= threads <= min(cores or threads, TEAM_MAX_THREADS):
+            return 0
+        if self.contributors and not (
+            fused and all(hasattr(c, "team_share") for c in self.contributors)
+        ):
+            return 0
+        return threads
 
     def _fusable(self) -> bool:
         """Whether the contributors run inside the step kernels: all of them have a

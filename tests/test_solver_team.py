@@ -1,0 +1,77 @@
+"""Team stepping (many steps per launch on persistent CPU threads meeting at barriers)
+gives the same motion, contact and cage forces as one launch of parallel loops per step,
+and every thread takes part."""
+
+# No `from __future__ import annotations`: Taichi reads kernel annotations at definition.
+
+import numpy as np
+import pytest
+from test_contact_cage import OMEGA, orbiting_roller
+from test_contact_disk import thrown_disk
+
+from taichi_bearing.solver.backend import current_threads, init_taichi
+from taichi_bearing.solver.contact import ContactParameters
+from taichi_bearing.solver.model import Model
+
+
+@pytest.fixture(scope="module", autouse=True)
+def taichi_cpu():
+    init_taichi("cpu")
+    if current_threads() < 2:
+        pytest.skip("team stepping needs two CPU threads")
+
+
+def run(build, team: bool, chunks: int, steps: int, monkeypatch) -> tuple[Model, list]:
+    """Build a model and step it in chunks, by team launches or by one launch per step;
+    returns the model and what ``build``'s reader gave after each chunk."""
+    with monkeypatch.context() as patch:
+        if not team:
+            patch.setattr(Model, "_team_size", lambda self, fused: 0)
+        model, read = build()
+        out = []
+        for _ in range(chunks):
+            model.advance(steps, record_last=True, serial=False)
+            out.append(read())
+    return model, out
+
+
+def test_team_steps_match_one_launch_per_step_with_contact(monkeypatch):
+    """A spinning disk thrown onto a block with friction: bounces, slides and rolls."""
+
+    def build():
+        params = ContactParameters(friction_static=0.3, friction_dynamic=0.2)
+        model, contact, _ = thrown_disk(params, (2.0, -1.0), omega=-300.0)
+        return model, lambda: contact.contact_state()["fn"].copy()
+
+    team, fn_team = run(build, True, 30, 60, monkeypatch)
+    ref, fn_ref = run(build, False, 30, 60, monkeypatch)
+    joined = team.team_joined.to_numpy()
+    # every thread ran one member (each took its own task of the launch's items)
+    assert np.count_nonzero(joined) == current_threads()
+    assert team.step_count == ref.step_count == 1800
+    fn_team, fn_ref = np.array(fn_team), np.array(fn_ref)
+    assert fn_ref.max() > 0  # it touched
+    # Atomic adds of the contact differ in order between runs: equal to rounding.
+    np.testing.assert_allclose(fn_team, fn_ref, rtol=0, atol=1e-9 * np.abs(fn_ref).max())
+    np.testing.assert_allclose(team.positions(), ref.positions(), rtol=0, atol=1e-12)
+    v_scale = np.abs(ref.velocities()).max()
+    np.testing.assert_allclose(team.velocities(), ref.velocities(), rtol=0, atol=1e-8 * v_scale)
+    e_team, e_ref = team.energies(), ref.energies()
+    for kind in ("kinetic", "internal", "external_work"):
+        assert e_team[kind] == pytest.approx(e_ref[kind], rel=1e-9, abs=1e-15)
+
+
+def test_team_steps_match_one_launch_per_step_with_the_cage(monkeypatch):
+    """A roller orbiting in its pocket drives the cage (the cage's part runs on member 0
+    between the force shares and the node updates)."""
+
+    def build():
+        model, cage = orbiting_roller(OMEGA)
+        return model, lambda: (cage.angle, cage.speed, *cage.pop_sample_means()[0])
+
+    team, out_team = run(build, True, 40, 100, monkeypatch)
+    _, out_ref = run(build, False, 40, 100, monkeypatch)
+    out_team, out_ref = np.array(out_team), np.array(out_ref)
+    assert np.abs(out_ref[:, 2:]).max() > 0  # the pocket pushed
+    np.testing.assert_allclose(out_team, out_ref, rtol=1e-12, atol=1e-12 * np.abs(out_ref).max())
+    assert np.count_nonzero(team.team_joined.to_numpy()) == current_threads()
