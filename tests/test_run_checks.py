@@ -9,6 +9,8 @@ import pandas as pd
 import pytest
 
 from taichi_bearing.checks import (
+    EXIT_BURST_LIMIT,
+    exit_burst_check,
     flexible_reference_checks,
     noise_check,
     noise_frequencies,
@@ -119,3 +121,22 @@ def test_impulses_of_the_burst_are_counted(n):
     # the gradual fall at entry has no impulse: its peak is the static force
     assert sig["entry_force_peak_ratio"] == pytest.approx(1.0)
     assert sig["exit_accel_peak"] == pytest.approx(50.0)
+
+
+def _passage(exit_peak: float, entry_peak: float = 100.0, floor_peak: float = 80.0) -> dict:
+    return {"exit_accel_peak": exit_peak, "entry_accel_peak": entry_peak,
+            "floor_accel_peak": floor_peak}  # fmt: skip
+
+
+def test_exit_burst_is_judged_on_the_median_passage():
+    # the default run of session 6: 2.62, 1.35, 2.47 times the entry (or floor) peak
+    typical = exit_burst_check([_passage(262.0), _passage(135.0), _passage(247.0)])
+    assert typical["passed"] and typical["value"] == pytest.approx(2.47)
+    assert "2 of 3 passages" in typical["note"]
+    # two passages of three without a burst: the typical passage has none
+    rare = exit_burst_check([_passage(262.0), _passage(135.0), _passage(150.0)])
+    assert rare["passed"] is False and rare["value"] == pytest.approx(1.5)
+    # a floor impact larger than the entry is the reference it must beat
+    floor = exit_burst_check([_passage(300.0, entry_peak=100.0, floor_peak=200.0)])
+    assert floor["value"] == pytest.approx(1.5) and floor["value"] < EXIT_BURST_LIMIT
+    assert exit_burst_check([])["passed"] is None
