@@ -93,7 +93,7 @@ def main() -> int:
     flip = dataclasses.replace(params, smoothing=not params.smoothing)
     other = PenaltyContact(model, pairs, flip)
     other_only = _time(lambda n: [other.add_forces(model, 0.0) for _ in range(n)], args.steps)
-    model.f_extra.fill(0.0)
+    model.f_extra.fill(0)
     cage = RigidCage.from_mesh(model, params, case.cage.mass, case.cage.pocket_clearance)
     cage_only = _time(lambda n: [cage.add_forces(model, 0.0) for _ in range(n)], args.steps)
     model.contributors.append(contact)

@@ -14,7 +14,7 @@ from taichi_bearing.solver.contact import ContactPair, ContactParameters, Penalt
 from taichi_bearing.solver.contact_bodies import merge_meshes
 from taichi_bearing.solver.loads import FixedNodes, uniform_load
 from taichi_bearing.solver.materials import Material
-from taichi_bearing.solver.model import Model, rigid_velocity_field
+from taichi_bearing.solver.model import Model, add_force, rigid_velocity_field
 from taichi_bearing.solver.relaxation import relax
 
 STEEL = Material(210e9, 0.3, 7850.0)
@@ -40,7 +40,7 @@ class Push:
     @ti.kernel
     def _add(self, f: ti.template(), fx: ti.f64, fy: ti.f64):
         for k in self.nodes:
-            f[self.nodes[k]] += ti.Vector([fx, fy])
+            add_force(f, self.nodes[k], ti.Vector([fx, fy]))
 
     def add_forces(self, model: Model, t: float) -> None:
         self._add(model.f_extra, self.f[0], self.f[1])

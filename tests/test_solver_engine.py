@@ -19,7 +19,7 @@ from taichi_bearing.solver.loads import (
     uniform_load,
 )
 from taichi_bearing.solver.materials import Material
-from taichi_bearing.solver.model import Model, StiffnessDamping
+from taichi_bearing.solver.model import Model, StiffnessDamping, add_force
 
 STEEL = Material(E=210e9, nu=0.3, rho=7850.0)
 
@@ -151,7 +151,7 @@ class Gravity:
     @ti.kernel
     def _add(self, f: ti.template(), m: ti.template(), gx: ti.f64, gy: ti.f64):
         for i in f:
-            f[i] += m[i] * ti.Vector([gx, gy])
+            add_force(f, i, m[i] * ti.Vector([gx, gy]))
 
     def add_forces(self, model: Model, t: float) -> None:
         self.calls += 1

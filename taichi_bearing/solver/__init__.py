@@ -38,10 +38,11 @@ from taichi_bearing.solver.loads import (
     uniform_load,
 )
 from taichi_bearing.solver.materials import Material
-from taichi_bearing.solver.model import ForceContributor, Model
+from taichi_bearing.solver.model import FORCE_QUANTUM, ForceContributor, Model, add_force
 from taichi_bearing.solver.relaxation import RelaxResult, relax
 
 __all__ = [
+    "FORCE_QUANTUM",
     "FixedNodes",
     "ForceContributor",
     "HeldDirection",
@@ -54,6 +55,7 @@ __all__ = [
     "RunConfig",
     "RunResult",
     "StiffnessDamping",
+    "add_force",
     "current_arch",
     "init_taichi",
     "line_load",

@@ -24,7 +24,7 @@ import taichi as ti
 from taichi_bearing.solver.backend import serial_loops
 from taichi_bearing.solver.contact_law import friction_force, normal_force
 from taichi_bearing.solver.contact_setup import ContactParameters, segment_stiffness
-from taichi_bearing.solver.model import Model
+from taichi_bearing.solver.model import Model, add_force
 
 __all__ = ["RigidCage"]
 
@@ -253,7 +253,7 @@ class RigidCage:
                 self.ft[n], self.et[n], k, vt, fn, dt, self._mu_s, self._mu_d, self._decay
             )
             F = fn * nv + ft * er
-            f_ext[i] += F
+            add_force(f_ext, i, F)
             self.cur[j] += ti.Vector([F[0], F[1], F.dot(et)])
             # Reaction -F on the cage at d: torque d x (-F).
             self.state[2] += -(d[0] * F[1] - d[1] * F[0])

@@ -57,7 +57,7 @@ from taichi_bearing.solver.contact_setup import (
     segment_end_corners,
     segment_stiffness,
 )
-from taichi_bearing.solver.model import Model, share
+from taichi_bearing.solver.model import FORCE_QUANTUM, Model, add_force, force_at, share
 
 __all__ = ["ContactPair", "ContactParameters", "PenaltyContact"]
 
@@ -207,10 +207,16 @@ class PenaltyContact:
         self.cell_surf = f(ti.i32, shape=self.cap)  # surface of each item (contiguous read)
         self.status = f(ti.i32, shape=2)  # 0: overflow flag, 1: active query count
         self.motion = f(ti.f64, shape=2)  # largest move since the build, largest speed
-        self.node_force = v2(model.n_nodes)  # contact force on each node, last step
-        self.cur = ti.Vector.field(4, ti.f64, shape=self.n_pairs)
+        # Forces summed over queries in fixed point (model.add_force): the same sums
+        # whatever order the threads add them in.
+        self.node_force = ti.Vector.field(2, ti.i64, shape=max(model.n_nodes, 1))  # last step
+        self.cur = ti.Vector.field(4, ti.i64, shape=self.n_pairs)
         self.acc = ti.Vector.field(4, ti.f64, shape=self.n_pairs)
-        self.diss = f(ti.f64, shape=2)  # friction, damping: dissipated so far, J
+        # Friction and damping energy dissipated (J): each query sums its own (no shared
+        # sum, so the totals are the same on any thread count); diss holds what
+        # checkpoints from before the per-query sums carried.
+        self.diss = f(ti.f64, shape=2)
+        self.q_diss = ti.Vector.field(2, ti.f64, shape=nq)
 
         self.pass_pair.from_numpy(table)
         self.pass_sign.from_numpy(sign)
@@ -302,10 +308,9 @@ class PenaltyContact:
     @ti.func
     def _open(self, q):
         """No contact: the tangential spring's energy is lost (counted as friction).
-        Nothing to do for a query already open (most of them: no atomic add to the
-        shared sum, which every thread would fight over)."""
+        Nothing to do for a query already open (most of them)."""
         if self.q_seg[q] >= 0:
-            self.diss[0] += self.q_et[q]
+            self.q_diss[q][0] += self.q_et[q]
             self.q_seg[q] = -1
             self.q_ft[q] = 0.0
             self.q_fn[q] = 0.0
@@ -442,16 +447,16 @@ class PenaltyContact:
         this directly; ``dt_v`` is unused)."""
         ti.loop_config(serialize=True)  # a few pairs
         for p in range(self.n_pairs):
-            self.cur[p] = ti.Vector.zero(ti.f64, 4)
+            self.cur[p] = ti.Vector.zero(ti.i64, 4)
         ti.loop_config(serialize=self._serial_light)
         for t in range(self.n_track):
-            self.node_force[self.track[t]] = ti.Vector.zero(ti.f64, 2)
+            self.node_force[self.track[t]] = ti.Vector.zero(ti.i64, 2)
         ti.loop_config(serialize=self._serial)
         for qa in range(self.status[1]):
             self._query(qa, x, v, mass, f_ext, dt)
         ti.loop_config(serialize=True)
         for p in range(self.n_pairs):
-            self.acc[p] += self.cur[p]
+            self.acc[p] += force_at(self.cur, p)
 
     @ti.func
     def team_begin(self, member, n_members):
@@ -459,10 +464,10 @@ class PenaltyContact:
         clear this member's share of the tracked nodes' forces (member 0: the pairs')."""
         if member == 0:
             for p in range(self.n_pairs):
-                self.cur[p] = ti.Vector.zero(ti.f64, 4)
+                self.cur[p] = ti.Vector.zero(ti.i64, 4)
         t0, t1 = share(self.n_track, member, n_members)
         for t in range(t0, t1):
-            self.node_force[self.track[t]] = ti.Vector.zero(ti.f64, 2)
+            self.node_force[self.track[t]] = ti.Vector.zero(ti.i64, 2)
 
     @ti.func
     def team_share(self, member, n_members, x: ti.template(), v: ti.template(),
@@ -477,7 +482,7 @@ class PenaltyContact:
                  f_ext: ti.template(), dt, dt_v):  # fmt: skip
         """Member 0, after every share: this step's pair resultants into the sums."""
         for p in range(self.n_pairs):
-            self.acc[p] += self.cur[p]
+            self.acc[p] += force_at(self.cur, p)
 
     @ti.func
     def _query(self, qa, x: ti.template(), v: ti.template(), mass: ti.template(),
@@ -662,27 +667,25 @@ class PenaltyContact:
                     keep = 1
         ft0 = 0.0
         e_t0 = 0.0
+        lost = 0.0
         if keep != 0:
             ft0 = self.q_ft[q]
             e_t0 = self.q_et[q]
         else:
-            self.diss[0] += self.q_et[q]  # reset: the old spring energy is lost
+            lost = self.q_et[q]  # reset: the old spring energy is lost
         ft, e_t, e_fric = friction_force(
             ft0, e_t0, k, vt, fn, dt, self._mu_s, self._mu_d, self._decay
         )
-        self.diss[0] += e_fric
-        self.diss[1] += e_damp
+        self.q_diss[q] += ti.Vector([e_fric + lost, e_damp])
         F = fn * nv + ft * tv
-        f_ext[i] += F
-        f_ext[ia] += -(1.0 - xi) * F
-        f_ext[ib] += -xi * F
-        self.node_force[i] += F
-        self.node_force[ia] += -(1.0 - xi) * F
-        self.node_force[ib] += -xi * F
+        for f in ti.static((f_ext, self.node_force)):
+            add_force(f, i, F)
+            add_force(f, ia, -(1.0 - xi) * F)
+            add_force(f, ib, -xi * F)
         key = S * self.n_surf + self.seg_surf[s]
         p = self.pass_pair[key]
         sg = self.pass_sign[key]
-        self.cur[p] += ti.Vector([sg * F[0], sg * F[1], fn, -ft])
+        add_force(self.cur, p, ti.Vector([sg * F[0], sg * F[1], fn, -ft]))
         self.q_seg[q] = s
         self.q_ft[q] = ft
         self.q_fn[q] = fn
@@ -722,7 +725,7 @@ class PenaltyContact:
         the master along the master surface's direction (body on its left), i.e. the
         outward normal turned +90 degrees.
         """
-        return self.cur.to_numpy()[: self.n_pairs].copy()
+        return self.cur.to_numpy()[: self.n_pairs] * FORCE_QUANTUM
 
     def pop_sample_means(self) -> np.ndarray:
         """Mean of :meth:`current_resultants` over the steps since the last call (zeros
@@ -740,16 +743,17 @@ class PenaltyContact:
     def energies(self) -> dict[str, float]:
         """``elastic`` (stored penalty energy), ``friction`` and ``damping`` (dissipated
         since construction or :meth:`reset_dissipation`), J for the model's thickness."""
-        d = self.diss.to_numpy()
+        d = self.diss.to_numpy() + self.q_diss.to_numpy()[: self.n_query].sum(axis=0)
         return {"elastic": self.energy(), "friction": float(d[0]), "damping": float(d[1])}
 
     def reset_dissipation(self) -> None:
         """Zero the dissipation sums (e.g. after the preload)."""
         self.diss.fill(0.0)
+        self.q_diss.fill(0.0)
 
     def nodal_forces(self) -> np.ndarray:
         """Contact force on every node in the last step, shape (n_nodes, 2), N."""
-        return self.node_force.to_numpy()
+        return self.node_force.to_numpy() * FORCE_QUANTUM
 
     def contact_state(self) -> dict[str, np.ndarray]:
         """Per query node: ``node``, ``segment`` (-1 open), ``gap`` (m, negative inside),

@@ -4,9 +4,12 @@ One step (central difference, leapfrog) from time ``t_n``:
 
 1. element loop: ``F``, Green strain, St Venant-Kirchhoff stress, hourglass and
    stiffness-proportional damping forces -> per-element nodal forces (no atomics);
-2. extra force contributors (contact, next issue) add into ``f_extra``;
-3. dead loads, then the node loop: gather element forces (fixed order, so runs are
-   bit-reproducible on any thread count), ``v^{n+1/2} = v^{n-1/2} + dt a^n``,
+2. extra force contributors (contact, cage) add into ``f_extra``, a fixed-point field
+   (integer multiples of :data:`FORCE_QUANTUM`): integer adds give the same sum in any
+   order, so the atomic adds of several threads do not change the result;
+3. dead loads (into ``f_load``, in a fixed order), then the node loop: gather element
+   forces (fixed order), so runs are bit-reproducible on any thread count;
+   ``v^{n+1/2} = v^{n-1/2} + dt a^n``,
    ``x^{n+1} = x^n + dt v^{n+1/2}``, constraints, work of the non-elastic forces;
 4. sensor sums (averaged later over each output interval).
 
@@ -46,7 +49,15 @@ from taichi_bearing.solver.loads import (
 )
 from taichi_bearing.solver.materials import Material, materials_per_element
 
-__all__ = ["ForceContributor", "Model", "StiffnessDamping"]  # StiffnessDamping: re-export
+# StiffnessDamping: re-export
+__all__ = [
+    "FORCE_QUANTUM",
+    "ForceContributor",
+    "Model",
+    "StiffnessDamping",
+    "add_force",
+    "force_at",
+]
 
 _FIXED, _HELD, _ROT, _PLATE = 1, 2, 4, 8
 TIME_STEP_METHODS = ("element", "global")
@@ -57,15 +68,22 @@ SERIAL_MAX_ELEMENTS = 3000
 TEAM_SPIN_LIMIT = 1 << 28
 TEAM_MAX_THREADS = 256
 
+# Extra nodal forces are summed as integers of this many newtons (see add_force): the
+# rounding (at most 7e-12 N a contribution) is far below anything a bearing model resolves,
+# and one contribution is capped at 2^60 quanta (1.7e7 N, a runaway the energy and
+# inversion checks stop), so a node's sum of a few cannot overflow.
+FORCE_QUANTUM = 2.0**-36
+_FORCE_SCALE = 2.0**36
+_FORCE_CAP = 2.0**60
+
 
 class ForceContributor(Protocol):
     """Something that adds nodal forces each step (e.g. contact).
 
     ``add_forces(model, t)`` is called after the element forces of step n and before the
     velocity update; it reads ``model.x`` / ``model.v`` (positions at ``t``, velocities at
-    ``t - dt/2``) and adds forces (N) into ``model.f_extra``. Atomic adds work, but their
-    order varies between runs on several threads; for bit-reproducible runs (and resume)
-    gather per node in a fixed order as the element forces do.
+    ``t - dt/2``) and adds forces (N) into ``model.f_extra`` with :func:`add_force` (a
+    fixed-point field: the sum does not depend on the order of the atomic adds).
 
     A contributor can also be fused into the model's step kernels (one launch per step,
     or per chunk of steps on one thread) by defining the Taichi function
@@ -77,11 +95,24 @@ class ForceContributor(Protocol):
     at barriers) a fused contributor also defines the Taichi functions
     ``team_begin(member, n_members)`` (before the forces: each member clears its share),
     ``team_share(member, n_members, x, v, mass, f_ext, dt, dt_v)`` (each member's share of
-    the forces, beside its share of the elements; adds to shared nodes atomically) and
+    the forces, beside its share of the elements; adds to shared nodes with add_force) and
     ``team_end(x, v, mass, f_ext, dt, dt_v)`` (member 0 alone, after all shares).
     """
 
     def add_forces(self, model: "Model", t: float) -> None: ...
+
+
+@ti.func
+def add_force(f: ti.template(), i, F):
+    """Add the force vector ``F`` (N) on node ``i`` to the fixed-point field ``f`` (such
+    as ``Model.f_extra``), rounded to :data:`FORCE_QUANTUM`. Safe from any thread."""
+    f[i] += ti.cast(ti.round(ti.math.clamp(F * _FORCE_SCALE, -_FORCE_CAP, _FORCE_CAP)), ti.i64)
+
+
+@ti.func
+def force_at(f: ti.template(), i):
+    """Node ``i``'s force (N) summed in the fixed-point field ``f``."""
+    return ti.cast(f[i], ti.f64) * FORCE_QUANTUM
 
 
 @ti.func
@@ -226,7 +257,8 @@ class Model:
         self.x = _vec_field(nn)
         self.v = _vec_field(nn)
         self.a = _vec_field(nn)
-        self.f_extra = _vec_field(nn)
+        self.f_extra = _vec_field(nn, dtype=ti.i64)  # fixed point: see add_force
+        self.f_load = _vec_field(nn)  # dead loads, added in a fixed order (any size)
         self.f_other = _vec_field(nn)  # non-elastic force of the last step (for work)
         self.v_int = _vec_field(nn)  # velocity at the last recorded integer step
         self.mass = _scalar_field(nn)
@@ -391,7 +423,8 @@ class Model:
         self.work.fill(0.0)
         self.e_damp.fill(0.0)
         self.f_other.fill(0.0)
-        self.f_extra.fill(0.0)
+        self.f_extra.fill(0)
+        self.f_load.fill(0.0)
         self.sensor_sum.fill(0.0)
         self.first = True
         self.step_count = 0
@@ -521,7 +554,7 @@ class Model:
             amp = 1.0
             if tr > 0.0 and t_load < tr:
                 amp = t_load / tr
-            self.f_extra[self.load_node[k]] += amp * self.load_force[k]
+            self.f_load[self.load_node[k]] += amp * self.load_force[k]
 
     @ti.func
     def _plate_update(self, dt_v, c_mass):
@@ -533,7 +566,7 @@ class Model:
             m_sum = 0.0
             for k in range(self.n_plate):
                 i = self.plate_node[k]
-                f = self.f_extra[i]
+                f = force_at(self.f_extra, i) + self.f_load[i]
                 for s in range(self.adj_ptr[i], self.adj_ptr[i + 1]):
                     f += self.fe[self.adj[s]]
                 f_sum += f.dot(d)
@@ -551,8 +584,9 @@ class Model:
         f_int = ti.Vector.zero(ti.f64, 2)
         for s in range(self.adj_ptr[i], self.adj_ptr[i + 1]):
             f_int += self.fe[self.adj[s]]
-        f = f_int + self.f_extra[i]
-        self.f_extra[i] = ti.Vector.zero(ti.f64, 2)
+        f = f_int + force_at(self.f_extra, i) + self.f_load[i]
+        self.f_extra[i] = ti.Vector.zero(ti.i64, 2)
+        self.f_load[i] = ti.Vector.zero(ti.f64, 2)
         m = self.mass[i]
         vo = self.v[i]
         xo = self.x[i]
@@ -822,12 +856,16 @@ class Model:
     def _k_measure(self):
         for j in range(6):
             self.sums[j] = 0.0
+        # In a fixed order: the same sums on any thread count (a few 10^4 light items,
+        # once an output sample).
+        ti.loop_config(serialize=True)
         for i in range(self.n_nodes):
             m = self.mass[i]
             u = self.x[i] - self.X[i]
             self.sums[0] += 0.5 * m * self.v_int[i].dot(self.v_int[i])
             self.sums[4] += self.work[i]
             self.sums[5] += m * u.dot(u)
+        ti.loop_config(serialize=True)
         for e in range(self.n_elements):
             self.sums[1] += self.e_int[e]
             self.sums[2] += self.e_hg[e]
