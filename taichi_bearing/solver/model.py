@@ -549,6 +549,9 @@ class Model:
 
     @ti.func
     def _apply_loads(self, t_load):
+        # f_load is non-zero only at load nodes: clear those, not every node each step.
+        for k in range(self.n_load):
+            self.f_load[self.load_node[k]] = ti.Vector.zero(ti.f64, 2)
         for k in range(self.n_load):
             tr = self.load_ramp[k]
             amp = 1.0
@@ -586,7 +589,6 @@ class Model:
             f_int += self.fe[self.adj[s]]
         f = f_int + force_at(self.f_extra, i) + self.f_load[i]
         self.f_extra[i] = ti.Vector.zero(ti.i64, 2)
-        self.f_load[i] = ti.Vector.zero(ti.f64, 2)
         m = self.mass[i]
         vo = self.v[i]
         xo = self.x[i]
