@@ -70,6 +70,29 @@ def check_signal(x, fs: float, name: str = "x", min_length: int = 2) -> np.ndarr
     return arr
 
 
+def check_varying(x: np.ndarray, name: str = "x") -> np.ndarray:
+    """Return ``x`` after checking that it varies along its last axis.
+
+    A constant record (a dead sensor, a disconnected channel, a file of zeros) carries no
+    vibration; analyses that normalise by the signal's spread would divide by zero.
+
+    Raises
+    ------
+    ValueError
+        If every sample of ``x`` (of any channel, for a 2-D ``x``) has the same value.
+    """
+    arr = np.asarray(x)
+    flat = arr.reshape(-1, arr.shape[-1]) if arr.ndim > 1 else arr[None, :]
+    constant = np.flatnonzero(np.ptp(flat, axis=-1) == 0.0)
+    if constant.size:
+        where = "" if arr.ndim <= 1 else f" (channel {int(constant[0])})"
+        raise ValueError(
+            f"{name} is constant{where}, every sample {float(flat[constant[0], 0]):g}: "
+            "a dead sensor or a flat record holds no vibration to analyse"
+        )
+    return x
+
+
 def check_frequency(f: float, fs: float, name: str = "f") -> float:
     """Return ``f`` as a float after checking 0 < f < fs/2.
 

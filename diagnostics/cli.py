@@ -14,8 +14,10 @@ import re
 import sys
 from pathlib import Path
 
+import numpy as np
+
 from diagnostics.compare import impact_times
-from diagnostics.diagnose import Diagnosis, diagnose
+from diagnostics.diagnose import Diagnosis, diagnose, record_requirements
 from diagnostics.files import atomic_path, write_json
 from diagnostics.filters import notch_filter
 from diagnostics.frequencies import BearingGeometry
@@ -25,6 +27,9 @@ __all__ = ["main", "build_parser", "parse_bearing", "UsageError"]
 _LENGTH_UNITS = {"m": 1.0, "cm": 1e-2, "mm": 1e-3, "um": 1e-6, "in": 25.4e-3}
 # Seconds of the record drawn in the time trace and the spectrogram.
 _TRACE_S = 0.25
+# Highest sampling rate taken for a vibration record (acoustic-emission systems reach tens
+# of MHz); a larger --fs is a typo or a unit slip.
+MAX_FS_HZ = 1e8
 
 
 class UsageError(Exception):
@@ -193,12 +198,58 @@ def _family_summary(d: Diagnosis) -> dict:
     return out
 
 
+def check_fs_option(fs: float | None) -> None:
+    """Refuse an ``--fs`` that is no sampling rate (not positive, or beyond ``MAX_FS_HZ``)."""
+    if fs is None:
+        return
+    if not (math.isfinite(fs) and fs > 0):
+        raise UsageError(f"--fs must be a positive frequency in Hz, got {fs:g}")
+    if fs > MAX_FS_HZ:
+        raise UsageError(
+            f"--fs {fs:g} Hz is beyond any vibration record's sampling rate "
+            f"(at most {MAX_FS_HZ:g} Hz); give the rate in Hz, e.g. --fs 12000"
+        )
+
+
+def check_record_fits(sig, geometry: BearingGeometry, shaft_hz: float, fs_given: bool) -> None:
+    """One line naming ``--fs`` (or the file) when the record cannot be diagnosed: a dead
+    channel, a rate too low for the fault frequencies, or a record too short."""
+    source = "--fs" if fs_given else f"the file's rate of {sig.fs:g} Hz"
+    where = f"{sig.meta.get('path', '')}:{sig.name}"
+    if np.ptp(sig.x) == 0.0:
+        raise UsageError(
+            f"{where} is constant (every sample {sig.x[0]:g}): a dead sensor or a flat "
+            "record, nothing to diagnose; choose another --channel"
+        )
+    min_fs, min_s = record_requirements(geometry, shaft_hz)
+    if sig.fs < min_fs:
+        raise UsageError(
+            f"{source} = {sig.fs:g} Hz is too low for this bearing's fault frequencies at "
+            f"{shaft_hz * 60:g} rpm: give at least {min_fs:.0f} Hz"
+        )
+    if sig.x.size / sig.fs < min_s:
+        raise UsageError(
+            f"{where}: {sig.x.size} samples at {source} = {sig.fs:g} Hz last "
+            f"{sig.x.size / sig.fs:.3g} s; diagnosis needs at least {min_s:.3g} s "
+            "(check --fs, or give a longer record)"
+        )
+
+
+def check_notches(notches: list[float], fs: float) -> None:
+    """Each ``--notch`` frequency strictly between 0 and fs/2."""
+    for f0 in notches:
+        if not (math.isfinite(f0) and 0.0 < f0 < fs / 2.0):
+            raise UsageError(
+                f"--notch {f0:g} Hz is outside 0..{fs / 2.0:g} Hz (fs/2, the Nyquist "
+                f"frequency at {fs:g} Hz)"
+            )
+
+
 def run_analyze(args: argparse.Namespace) -> int:
     from diagnostics.io import read_signal
 
     geometry = parse_bearing(args.bearing)
-    if args.fs is not None and not (math.isfinite(args.fs) and args.fs > 0):
-        raise UsageError(f"--fs must be a positive frequency in Hz, got {args.fs:g}")
+    check_fs_option(args.fs)
     sig = read_signal(args.file, channel=args.channel, fs=args.fs)
     rpm = args.rpm if args.rpm is not None else sig.meta.get("rpm")
     if rpm is None:
@@ -206,6 +257,8 @@ def run_analyze(args: argparse.Namespace) -> int:
     if not (math.isfinite(rpm) and rpm > 0):
         raise UsageError(f"--rpm must be a positive speed, got {rpm:g}")
     shaft_hz = rpm / 60.0
+    check_notches(args.notch, sig.fs)
+    check_record_fits(sig, geometry, shaft_hz, args.fs is not None)
     raw = sig.x
     x = raw
     for f0 in args.notch:

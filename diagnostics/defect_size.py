@@ -299,6 +299,8 @@ def estimate_defect_size(
     fs, shaft_hz = check_bearing_inputs(geometry, fs, shaft_hz)
     if race not in RACES:
         raise ValueError(f"race must be one of {RACES}, got {race!r}")
+    if depth_m is not None:
+        depth_m = check_positive(depth_m, "depth_m", unit=" in m")
     max_separation = check_positive(max_separation, "max_separation")
     if max_separation >= 1.0:
         raise ValueError(f"max_separation must be below 1 (a passage period), got {max_separation}")

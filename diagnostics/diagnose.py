@@ -55,7 +55,7 @@ import numpy as np
 from scipy import fft as sp_fft
 from scipy import ndimage, signal
 
-from diagnostics._checks import check_positive, check_positive_int, check_signal
+from diagnostics._checks import check_positive, check_positive_int, check_signal, check_varying
 from diagnostics.envelope import envelope
 from diagnostics.frequencies import BearingGeometry, FaultFrequencies, bearing_frequencies
 from diagnostics.kurtosis import kurtogram
@@ -233,6 +233,41 @@ def check_bearing_inputs(geometry, fs: float, shaft_hz: float) -> tuple[float, f
     return fs, shaft_hz
 
 
+def record_requirements(
+    geometry: BearingGeometry, shaft_hz: float, slip: float = 0.02
+) -> tuple[float, float]:
+    """Lowest sampling rate and shortest record :func:`diagnose` accepts for a bearing.
+
+    The squared envelope must hold two harmonics of the highest fault frequency within
+    0.8 of the Nyquist band, and the record must hold 20 periods of the slowest one (plus
+    the prewhitening tapers).
+
+    Parameters
+    ----------
+    geometry : BearingGeometry
+        Bearing dimensions (metres).
+    shaft_hz : float
+        Shaft speed in Hz.
+    slip : float
+        Relative tolerance on the fault frequencies.
+
+    Returns
+    -------
+    min_fs_hz, min_duration_s : float
+
+    Examples
+    --------
+    >>> fs_min, t_min = record_requirements(BearingGeometry(9, 7.94e-3, 39.04e-3), 29.95)
+    >>> round(fs_min), round(t_min, 3)
+    (827, 0.286)
+    """
+    freqs = bearing_frequencies(geometry, check_positive(shaft_hz, "shaft_hz", unit=" in Hz"))
+    fundamentals = _family_fundamentals(freqs)
+    f_low = min(f0 for f0, _ in fundamentals.values())
+    f_high = max(f0 for f0, _ in fundamentals.values()) * (1.0 + slip)
+    return 2.0 * 2.0 * f_high / _USABLE_FRACTION, 20.0 / f_low + 2.0 * _TAPER_S
+
+
 def _fast_length(n: int) -> int:
     """Largest length <= n whose real FFT is fast (no large prime factor)."""
     m = n
@@ -263,7 +298,7 @@ def prewhiten(x, fs: float, taper_s: float = _TAPER_S) -> np.ndarray:
     numpy.ndarray
         Prewhitened signal, shorter than ``x`` by the two tapers.
     """
-    x = check_signal(x, fs, min_length=16)
+    x = check_varying(check_signal(x, fs, min_length=16))
     m = int(min(round(taper_s * fs), 0.05 * x.size))
     # Drop a few samples so that this and every later FFT has a fast (5-smooth) length.
     n = _fast_length(x.size - 2 * m) + 2 * m
@@ -554,8 +589,14 @@ def diagnose(
         raise ValueError(
             f"fs = {fs:g} Hz is too low for these fault frequencies (up to {f_high:.4g} Hz)"
         )
+    x = check_varying(check_signal(x, fs))
     min_len = int(math.ceil(20.0 * fs / f_low + 2 * _TAPER_S * fs))
-    x = check_signal(x, fs, min_length=min_len)
+    if x.size < min_len:
+        raise ValueError(
+            f"x is too short: {x.size} samples last {x.size / fs:.3g} s at fs = {fs:g} Hz; "
+            f"diagnose needs {min_len / fs:.3g} s (20 periods of {f_low:.4g} Hz, the slowest "
+            "fault frequency, and the tapers)"
+        )
 
     white = prewhiten(x, fs)
     candidates: list[tuple[str, tuple[float, float], float]] = [

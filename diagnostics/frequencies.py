@@ -18,6 +18,12 @@ from numbers import Real
 
 __all__ = ["BearingGeometry", "FaultFrequencies", "bearing_frequencies"]
 
+# Largest sizes a real bearing has, in metres: the balls of the largest slewing rings are
+# about 0.2 m, their pitch diameters under 20 m. A value above these is a length given in
+# the wrong unit (millimetres or inches to an API that takes metres).
+MAX_ROLLER_DIAMETER_M = 0.5
+MAX_PITCH_DIAMETER_M = 20.0
+
 
 @dataclass(frozen=True)
 class BearingGeometry:
@@ -33,6 +39,18 @@ class BearingGeometry:
         Pitch (cage) diameter D, m.
     contact_angle_deg : float, optional
         Contact angle alpha in degrees (0 for radial roller bearings).
+
+    Raises
+    ------
+    ValueError
+        On a non-positive count or length, a rolling element not smaller than the pitch
+        diameter, a contact angle outside [0, 90), or lengths no bearing has (an element
+        over 0.5 m, a pitch diameter over 20 m: millimetres given for metres).
+
+    Examples
+    --------
+    >>> BearingGeometry(9, 7.94e-3, 39.04e-3).diameter_ratio      # CWRU drive end, SKF 6205
+    0.2033811475409836
     """
 
     n_rollers: int
@@ -48,6 +66,16 @@ class BearingGeometry:
             if not (isinstance(value, Real) and math.isfinite(value) and value > 0):
                 raise ValueError(
                     f"{name} must be a positive finite length in metres, got {value!r}"
+                )
+        for name, limit in (
+            ("roller_diameter", MAX_ROLLER_DIAMETER_M),
+            ("pitch_diameter", MAX_PITCH_DIAMETER_M),
+        ):
+            value = getattr(self, name)
+            if value > limit:
+                raise ValueError(
+                    f"{name} = {value:g} m is larger than any bearing has (over {limit:g} m): "
+                    f"BearingGeometry takes metres; {value:g} mm is {value * 1e-3:g} m"
                 )
         if self.roller_diameter >= self.pitch_diameter:
             raise ValueError(

@@ -147,12 +147,22 @@ def third_octave(x, fs: float, f_min: float = 20.0, f_max: float | None = None, 
     fc : numpy.ndarray
         Exact band centres in Hz.
     level_db : numpy.ndarray
-        Band levels in dB re ``ref``; ``-inf`` for a band holding no power or no bin.
+        Band levels in dB re ``ref``; ``-inf`` for a band holding no power.
 
     Raises
     ------
     ValueError
-        On an invalid signal or ``fs``, or a range that holds no complete band.
+        On an invalid signal or ``fs``, a range that holds no complete band, or a record
+        too short to resolve the lowest band (its bins are farther apart than the band is
+        wide): raise ``f_min`` or give a longer record.
+
+    Examples
+    --------
+    >>> fs = 8000.0
+    >>> x = np.sin(2 * np.pi * 1000.0 * np.arange(8000) / fs)
+    >>> fc, level = third_octave(x, fs, f_min=800.0, f_max=1300.0)
+    >>> [round(float(v), 1) for v in fc], round(float(level[1]), 2)   # A^2/2 = -3 dB
+    ([794.3, 1000.0, 1258.9], -3.01)
     """
     fs = check_fs(fs)
     x = check_signal(x, fs, min_length=2)
@@ -170,10 +180,27 @@ def third_octave(x, fs: float, f_min: float = 20.0, f_max: float | None = None, 
             f"no complete one-third-octave band between f_min = {f_min:g} Hz and fs/2 = "
             f"{nyquist:g} Hz"
         )
+    _check_band_resolution(x.size, fs, fc)
     band_power = _band_powers(x, fs, fc)
     with np.errstate(divide="ignore"):
         level_db = 10.0 * np.log10(band_power / ref**2)
     return fc, level_db
+
+
+def _check_band_resolution(n: int, fs: float, fc: np.ndarray) -> None:
+    """Raise unless every band holds at least one bin of an ``n``-point spectrum."""
+    f = np.fft.rfftfreq(n, d=1.0 / fs)
+    lower, upper = fc * 10.0**-_EDGE_EXPONENT, fc * 10.0**_EDGE_EXPONENT
+    counts = np.searchsorted(f, upper, side="left") - np.searchsorted(f, lower, side="left")
+    if np.all(counts > 0):
+        return
+    first = int(np.argmax(counts == 0))
+    width = upper[first] - lower[first]
+    raise ValueError(
+        f"x is too short for one-third-octave bands from {fc[first]:.4g} Hz: {n} samples "
+        f"({n / fs:.3g} s) give spectral bins {fs / n:.3g} Hz apart, wider than that band "
+        f"({width:.3g} Hz); give at least {math.ceil(fs / width)} samples or a higher f_min"
+    )
 
 
 def _band_powers(x: np.ndarray, fs: float, fc: np.ndarray) -> np.ndarray:
