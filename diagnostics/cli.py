@@ -398,6 +398,63 @@ def run_compare(args: argparse.Namespace) -> int:
     return 0
 
 
+def add_benchmark_arguments(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument(
+        "folders",
+        metavar="DIR",
+        nargs="+",
+        type=Path,
+        help="folder(s) of CWRU or MFPT .mat records, named as the public sets name them",
+    )
+    parser.add_argument(
+        "--records", action="store_true", help="also print one line per record as it is done"
+    )
+    parser.add_argument("--csv", type=Path, help="write every record's verdict to this CSV file")
+
+
+def run_benchmark(args: argparse.Namespace) -> int:
+    from diagnostics import benchmark
+
+    paths = [p for folder in args.folders for p in benchmark.find_records(folder)]
+    if not paths:
+        raise UsageError(
+            f"{', '.join(map(str, args.folders))}: no CWRU or MFPT record found (.mat files "
+            "named e.g. 12k_Drive_End_IR007_0_105.mat, normal_0_97.mat, "
+            "InnerRaceFault_vload_1.mat)"
+        )
+
+    def show(r: benchmark.BenchmarkResult) -> None:
+        if args.records:
+            mark = "ok" if r.correct else "MISS"
+            print(
+                f"{r.path.name}: {r.expected} -> {r.verdict} ({r.confidence:.2f}) {mark} {r.detail}"
+            )
+
+    results = benchmark.run_benchmark(paths, progress=show)
+    if args.records:
+        print()
+    print(benchmark.summary_table(results))
+    if args.csv is not None:
+        import pandas as pd
+
+        rows = [
+            {
+                "record": str(r.path),
+                "set": r.group,
+                "expected": r.expected,
+                "verdict": r.verdict,
+                "confidence": r.confidence,
+                "correct": r.correct,
+                "detail": r.detail,
+            }
+            for r in results
+        ]
+        with atomic_path(args.csv) as tmp:
+            pd.DataFrame(rows).to_csv(tmp, index=False)
+        print(f"wrote {args.csv}")
+    return 0
+
+
 COMMANDS = {
     "analyze": (
         "diagnose one vibration record: figures, summary.json and a verdict",
@@ -408,6 +465,11 @@ COMMANDS = {
         "measured against simulated: one pipeline, figures side by side, summary.json",
         add_compare_arguments,
         run_compare,
+    ),
+    "benchmark": (
+        "diagnose every CWRU or MFPT record in a folder and tabulate the verdicts",
+        add_benchmark_arguments,
+        run_benchmark,
     ),
 }
 

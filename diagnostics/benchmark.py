@@ -1,0 +1,164 @@
+"""Run :func:`diagnostics.diagnose` over a folder of public bearing records and tabulate.
+
+Each ``.mat`` file whose name :func:`diagnostics.datasets.label_from_name` understands (CWRU
+or MFPT) is read with its own channel, rate, speed and bearing, diagnosed, and compared with
+the fault its name gives. The table counts, per set, end and fault type, how many records
+got the right verdict and what the others were called: the measure of Smith and Randall's
+CWRU benchmark (MSSP 64-65, 2015), where the verdict is the fault type.
+"""
+
+from __future__ import annotations
+
+from collections import Counter, defaultdict
+from collections.abc import Callable, Iterable
+from dataclasses import dataclass
+from pathlib import Path
+
+from diagnostics.datasets import label_from_name, read_labelled_record
+from diagnostics.diagnose import diagnose
+
+__all__ = ["BenchmarkResult", "find_records", "run_benchmark", "summary_table", "record_table"]
+
+VERDICTS = ("outer", "inner", "ball", "none")
+
+
+@dataclass(frozen=True)
+class BenchmarkResult:
+    """Verdict on one record.
+
+    Attributes
+    ----------
+    path : pathlib.Path
+        The record.
+    group : str
+        Table row it belongs to (set, rate, end), e.g. ``"CWRU 48k drive end"``.
+    expected : str
+        Fault the name gives.
+    verdict : str
+        Fault ``diagnose`` named, or ``"error"`` when the record could not be diagnosed.
+    confidence : float
+        Confidence of the verdict (0 on an error).
+    detail : str
+        Fault size and position, or the error message.
+    """
+
+    path: Path
+    group: str
+    expected: str
+    verdict: str
+    confidence: float
+    detail: str = ""
+
+    @property
+    def correct(self) -> bool:
+        return self.verdict == self.expected
+
+
+def find_records(folder) -> list[Path]:
+    """Every ``.mat`` file below ``folder`` whose name is a CWRU or MFPT record, sorted.
+
+    Raises
+    ------
+    ValueError
+        If ``folder`` is not a folder.
+    """
+    folder = Path(folder)
+    if not folder.is_dir():
+        raise ValueError(f"{folder}: not a folder (give a folder of CWRU or MFPT .mat records)")
+    return sorted(p for p in folder.rglob("*") if _is_record(p))
+
+
+def _is_record(path: Path) -> bool:
+    return path.suffix.lower() == ".mat" and path.is_file() and label_from_name(path) is not None
+
+
+def run_benchmark(
+    paths: Iterable,
+    diagnose_fn: Callable = diagnose,
+    progress: Callable[[BenchmarkResult], None] | None = None,
+    **options,
+) -> list[BenchmarkResult]:
+    """Diagnose every record and compare with its label.
+
+    Parameters
+    ----------
+    paths : iterable of path-like
+        Records (see :func:`find_records`).
+    diagnose_fn : callable
+        ``diagnose_fn(x, fs, geometry, shaft_hz, **options)`` returning an object with
+        ``fault`` and ``confidence`` (default :func:`diagnostics.diagnose`).
+    progress : callable, optional
+        Called with each result as it is made.
+    **options
+        Passed to ``diagnose_fn``.
+
+    Returns
+    -------
+    list of BenchmarkResult
+        One per record; a record that cannot be read or diagnosed has verdict ``"error"``.
+    """
+    results = []
+    for path in paths:
+        path = Path(path)
+        label = label_from_name(path)
+        if label is None:
+            continue
+        detail = f"{label.size_in:.3f} in{label.position}" if label.size_in else ""
+        try:
+            rec = read_labelled_record(path, label)
+            d = diagnose_fn(rec.x, rec.fs, rec.geometry, rec.shaft_hz, **options)
+            result = BenchmarkResult(
+                path, label.group, label.fault, d.fault, float(d.confidence), detail
+            )
+        except ValueError as exc:
+            result = BenchmarkResult(path, label.group, label.fault, "error", 0.0, str(exc))
+        if progress is not None:
+            progress(result)
+        results.append(result)
+    return results
+
+
+def summary_table(results: list[BenchmarkResult]) -> str:
+    """Plain-text table: per set/end and fault, records, correct and every verdict given.
+
+    Examples
+    --------
+    >>> r = [BenchmarkResult(Path("a.mat"), "MFPT", "inner", "inner", 1.0),
+    ...      BenchmarkResult(Path("b.mat"), "MFPT", "inner", "none", 0.9)]
+    >>> print(summary_table(r))
+    set   fault  records  correct  outer  inner   ball   none  error
+    MFPT  inner        2      1/2      0      1      0      1      0
+    all                2      1/2
+    """
+    groups: dict[tuple[str, str], Counter] = defaultdict(Counter)
+    for r in results:
+        groups[(r.group, r.expected)][r.verdict] += 1
+    order = {v: i for i, v in enumerate(VERDICTS)}
+    keys = sorted(groups, key=lambda k: (k[0], order.get(k[1], 9)))
+    width = max([len("set")] + [len(k[0]) for k in keys])
+    head = f"{'set':<{width}}  fault  records  correct  " + "  ".join(
+        f"{v:>5}" for v in (*VERDICTS, "error")
+    )
+    lines = [head]
+    for group, fault in keys:
+        counts = groups[(group, fault)]
+        n = sum(counts.values())
+        cells = "  ".join(f"{counts[v]:>5}" for v in (*VERDICTS, "error"))
+        lines.append(f"{group:<{width}}  {fault:<5}  {n:>7}  {f'{counts[fault]}/{n}':>7}  {cells}")
+    total = len(results)
+    right = sum(r.correct for r in results)
+    lines.append(f"{'all':<{width}}  {'':<5}  {total:>7}  {f'{right}/{total}':>7}")
+    return "\n".join(line.rstrip() for line in lines)
+
+
+def record_table(results: list[BenchmarkResult]) -> str:
+    """One line per record: file, expected fault, verdict, confidence, detail."""
+    width = max([len("record")] + [len(r.path.name) for r in results])
+    lines = [f"{'record':<{width}}  expected  verdict  confidence  ok  detail"]
+    for r in results:
+        ok = "yes" if r.correct else "NO"
+        lines.append(
+            f"{r.path.name:<{width}}  {r.expected:<8}  {r.verdict:<7}  {r.confidence:>10.2f}"
+            f"  {ok:<3} {r.detail}"
+        )
+    return "\n".join(line.rstrip() for line in lines)

@@ -1,0 +1,217 @@
+"""Public bearing data sets: what a record's name says, and how to read it for ``diagnose``.
+
+Two sets are known by their file names:
+
+* Case Western Reserve University (CWRU) Bearing Data Center. Faults seeded by EDM in a
+  6205 drive-end and a 6203 fan-end deep-groove ball bearing of a 2 hp motor; names as the
+  public mirrors give them, e.g. ``12k_Drive_End_IR007_0_105.mat``,
+  ``48k_Drive_End_OR007@6_0_135.mat``, ``12k_Fan_End_B014_2_288.mat``, ``normal_0_97.mat``,
+  or a folder ``12k Drive End .../IR007_0.mat``: fault ``IR`` (inner race), ``OR`` (outer
+  race, ``@6``/``@3``/``@12`` o'clock) or ``B`` (ball), size in mils, motor load in hp,
+  record number. Channels ``XNNN_DE_time`` (drive end) and
+  ``XNNN_FE_time`` (fan end), shaft speed ``XNNNRPM``. A fan-end fault is read on the
+  fan-end channel with the fan-end bearing, every other record on the drive end.
+* Society for Machinery Failure Prevention Technology (MFPT): ``InnerRaceFault_vload_N``,
+  ``OuterRaceFault_N``, ``OuterRaceFault_vload_N``, ``baseline_N``; a struct ``bearing``
+  with ``gs`` (g), ``sr`` (Hz), ``rate`` (shaft Hz) and ``load``.
+
+Bearing geometry (inches, from the data sets' own documentation):
+
+* CWRU drive end, SKF 6205-2RS JEM: 9 balls of 0.3126, pitch diameter 1.537, contact 0.
+* CWRU fan end, SKF 6203-2RS JEM: 8 balls of 0.2656, pitch diameter 1.122, contact 0
+  (BPFO 3.0530, BPFI 4.9469, FTF 0.3817, 2 BSF 3.9874 times the shaft rate).
+* MFPT: 8 rollers of 0.235, pitch diameter 1.245, contact 0.
+"""
+
+from __future__ import annotations
+
+import re
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from diagnostics.frequencies import BearingGeometry
+from diagnostics.io import read_signal
+
+__all__ = [
+    "CWRU_DRIVE_END",
+    "CWRU_FAN_END",
+    "MFPT_BEARING",
+    "RecordLabel",
+    "LabelledRecord",
+    "label_from_name",
+    "read_labelled_record",
+]
+
+_INCH = 25.4e-3
+CWRU_DRIVE_END = BearingGeometry(9, 0.3126 * _INCH, 1.537 * _INCH)
+CWRU_FAN_END = BearingGeometry(8, 0.2656 * _INCH, 1.122 * _INCH)
+MFPT_BEARING = BearingGeometry(8, 0.235 * _INCH, 1.245 * _INCH)
+# CWRU nominal motor speed per load (hp), for a record that holds no RPM variable.
+CWRU_NOMINAL_RPM = {0: 1797.0, 1: 1772.0, 2: 1750.0, 3: 1730.0}
+# The CWRU baseline (normal) records were sampled at 48 kHz.
+CWRU_NORMAL_FS = 48_000.0
+
+_CWRU_FAULT = re.compile(r"(?<![a-z])(ir|or|b)(\d{3})(?:@(\d{1,2}))?_(\d)(?!\d)", re.IGNORECASE)
+_CWRU_NORMAL = re.compile(r"(?<![a-z])normal(?:[ _-]?baseline)?(?:[ _-]+(\d))?", re.IGNORECASE)
+_CWRU_END = re.compile(r"(drive|fan)[ _-]?end|(?<![a-z])(de|fe)(?![a-z])", re.IGNORECASE)
+_CWRU_RATE = re.compile(r"(?<!\d)(12|48)[ _-]?k(?:hz)?(?![a-z])", re.IGNORECASE)
+_MFPT = re.compile(r"(innerrace|outerrace)fault|(?<![a-z])baseline_\d", re.IGNORECASE)
+_FAULTS = {"ir": "inner", "or": "outer", "b": "ball"}
+
+
+@dataclass(frozen=True)
+class RecordLabel:
+    """What a public record's name says about it.
+
+    Attributes
+    ----------
+    source : str
+        ``"CWRU"`` or ``"MFPT"``.
+    fault : str
+        ``"outer"``, ``"inner"``, ``"ball"`` or ``"none"`` (a baseline record).
+    end : str
+        CWRU: ``"drive"`` or ``"fan"`` (the bearing that carries the fault, the drive end for
+        a baseline); MFPT: ``"-"``.
+    size_in : float or None
+        Fault diameter in inches (CWRU).
+    position : str
+        Outer-race fault position, e.g. ``"@6"`` (CWRU), else ``""``.
+    load : str
+        Motor load in hp (CWRU), the MFPT record's series, or ``""``.
+    fs : float or None
+        Sampling rate the name implies (CWRU ``12k``/``48k``, baseline 48 kHz), or None.
+    """
+
+    source: str
+    fault: str
+    end: str
+    size_in: float | None = None
+    position: str = ""
+    load: str = ""
+    fs: float | None = None
+
+    @property
+    def group(self) -> str:
+        """Row of a benchmark table: the set, its rate and the end."""
+        if self.source == "MFPT":
+            return "MFPT"
+        rate = f" {self.fs / 1000:g}k" if self.fs else ""
+        return f"CWRU{rate} {self.end} end"
+
+
+@dataclass(frozen=True)
+class LabelledRecord:
+    """A record read for diagnosis: samples, rate, speed, bearing and label."""
+
+    path: Path
+    x: np.ndarray
+    fs: float
+    shaft_hz: float
+    geometry: BearingGeometry
+    channel: str
+    label: RecordLabel
+
+
+def label_from_name(path) -> RecordLabel | None:
+    """Label of a CWRU or MFPT record from its path, or None for a name neither set uses.
+
+    The whole path is read, so ``48k Drive End/OR007@6_0.mat`` takes the rate and end
+    from its folder.
+
+    Examples
+    --------
+    >>> label_from_name("12k_Fan_End_OR014@3_1_309.mat")
+    RecordLabel(source='CWRU', fault='outer', end='fan', size_in=0.014, position='@3', load='1', fs=12000.0)
+    >>> label_from_name("normal_0_97.mat").fault
+    'none'
+    >>> label_from_name("mfpt/InnerRaceFault_vload_3.mat").fault
+    'inner'
+    >>> label_from_name("notes.mat") is None
+    True
+    """  # noqa: E501
+    text = str(Path(path).as_posix())
+    name = Path(path).name
+    mfpt = _MFPT.search(name)
+    if mfpt:
+        kind = (mfpt.group(1) or "baseline").lower()
+        fault = {"innerrace": "inner", "outerrace": "outer"}.get(kind, "none")
+        series = re.search(r"(vload_\d+|_\d+)\.", name)
+        return RecordLabel("MFPT", fault, "-", load=series.group(1).strip("_.") if series else "")
+    rate = _last(_CWRU_RATE, text)
+    fs = float(rate.group(1)) * 1000.0 if rate else None
+    fault = _last(_CWRU_FAULT, name) or _last(_CWRU_FAULT, text)
+    if fault:
+        end_match = _last(_CWRU_END, text)
+        end = "drive"
+        if end_match and (end_match.group(1) or end_match.group(2))[0].lower() == "f":
+            end = "fan"
+        return RecordLabel(
+            "CWRU",
+            _FAULTS[fault.group(1).lower()],
+            end,
+            size_in=int(fault.group(2)) / 1000.0,
+            position=f"@{fault.group(3)}" if fault.group(3) else "",
+            load=fault.group(4),
+            fs=fs,
+        )
+    normal = _last(_CWRU_NORMAL, name) or _last(_CWRU_NORMAL, text)
+    if normal:
+        return RecordLabel("CWRU", "none", "drive", load=normal.group(1) or "", fs=CWRU_NORMAL_FS)
+    return None
+
+
+def _last(pattern: re.Pattern, text: str):
+    matches = list(pattern.finditer(text))
+    return matches[-1] if matches else None
+
+
+def read_labelled_record(path, label: RecordLabel | None = None) -> LabelledRecord:
+    """Read a CWRU or MFPT record with the channel, rate, speed and bearing its label implies.
+
+    Parameters
+    ----------
+    path : str or path-like
+        A ``.mat`` record of either set.
+    label : RecordLabel, optional
+        Default: :func:`label_from_name`.
+
+    Returns
+    -------
+    LabelledRecord
+
+    Raises
+    ------
+    ValueError
+        If the name is neither set's, the file lacks the channel, or no speed or rate can
+        be found.
+    """
+    path = Path(path)
+    label = label if label is not None else label_from_name(path)
+    if label is None:
+        raise ValueError(f"{path}: not a CWRU or MFPT record name")
+    if label.source == "MFPT":
+        sig = read_signal(path)
+        if "rpm" not in sig.meta:
+            raise ValueError(f"{path}: no shaft rate in the file (bearing.rate)")
+        return LabelledRecord(
+            path, sig.x, sig.fs, sig.meta["rpm"] / 60.0, MFPT_BEARING, sig.name, label
+        )
+    if label.fs is None:
+        raise ValueError(f"{path}: the name gives no sampling rate (12k or 48k)")
+    names = read_signal(path, channel=0, fs=label.fs).meta["channels"]
+    suffix = "_FE_time" if label.end == "fan" else "_DE_time"
+    candidates = [c for c in names if c.endswith(suffix)]
+    if not candidates:
+        raise ValueError(f"{path}: no *{suffix} channel; channels: {', '.join(names)}")
+    # The record's own number first: some files carry a second record's channels too.
+    number = re.search(r"(\d+)$", path.stem)
+    own = [c for c in candidates if number and re.match(rf"X0*{int(number.group(1))}_", c)]
+    channel = (own or candidates)[0]
+    sig = read_signal(path, channel=channel, fs=label.fs)
+    rpm = sig.meta.get("rpm")
+    if rpm is None or not np.isfinite(rpm) or rpm <= 0:
+        rpm = CWRU_NOMINAL_RPM.get(int(label.load or 0), CWRU_NOMINAL_RPM[0])
+    geometry = CWRU_FAN_END if label.end == "fan" else CWRU_DRIVE_END
+    return LabelledRecord(path, sig.x, sig.fs, rpm / 60.0, geometry, channel, label)

@@ -1,0 +1,174 @@
+"""The benchmark over public record sets: names read as labels, the right channel, bearing and
+speed for each record, the table, the command line; the development sets where present."""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import numpy as np
+import pytest
+from scipy.io import savemat
+
+from diagnostics.benchmark import find_records, run_benchmark, summary_table
+from diagnostics.cli import main
+from diagnostics.datasets import (
+    CWRU_DRIVE_END,
+    CWRU_FAN_END,
+    MFPT_BEARING,
+    label_from_name,
+    read_labelled_record,
+)
+from diagnostics.frequencies import bearing_frequencies
+
+DATA = Path(__file__).resolve().parents[2] / "shared" / "data"
+
+NAMES = {
+    "12k_Drive_End_IR007_0_105.mat": ("CWRU", "inner", "drive", 0.007, "", "0", 12000.0),
+    "48k_Drive_End_OR007@6_0_135.mat": ("CWRU", "outer", "drive", 0.007, "@6", "0", 48000.0),
+    "12k_Fan_End_OR014@3_1_309.mat": ("CWRU", "outer", "fan", 0.014, "@3", "1", 12000.0),
+    "12k_Fan_End_B021_3_293.mat": ("CWRU", "ball", "fan", 0.021, "", "3", 12000.0),
+    "48k_Drive_End_IR014_0_174.mat": ("CWRU", "inner", "drive", 0.014, "", "0", 48000.0),
+    "12k Fan End Bearing Fault Data/IR028_2.mat": ("CWRU", "inner", "fan", 0.028, "", "2", 12000.0),
+    "normal_2_99.mat": ("CWRU", "none", "drive", None, "", "2", 48000.0),
+    "mfpt/OuterRaceFault_vload_4.mat": ("MFPT", "outer", "-", None, "", "vload_4", None),
+    "InnerRaceFault_vload_7.mat": ("MFPT", "inner", "-", None, "", "vload_7", None),
+    "baseline_2.mat": ("MFPT", "none", "-", None, "", "2", None),
+}  # fmt: skip
+
+
+@pytest.mark.parametrize("name", sorted(NAMES))
+def test_labels_from_public_names(name):
+    label = label_from_name(name)
+    source, fault, end, size, position, load, fs = NAMES[name]
+    assert (label.source, label.fault, label.end, label.position, label.load, label.fs) == (
+        source, fault, end, position, load, fs
+    )  # fmt: skip
+    assert label.size_in == (pytest.approx(size) if size else None)
+
+
+@pytest.mark.parametrize("name", ["notes.mat", "run_7.mat", "X097_DE_time.csv"])
+def test_other_names_are_not_records(name):
+    assert label_from_name(name) is None
+
+
+def test_bearings_reproduce_the_published_defect_frequencies():
+    # CWRU documentation, as multiples of the shaft rate: drive end 6205 and fan end 6203;
+    # MFPT: BPFO 81.1 Hz and BPFI 118.9 Hz at 25 Hz.
+    published = {
+        CWRU_DRIVE_END: (3.5848, 5.4152, 0.39828, 4.7135),
+        CWRU_FAN_END: (3.0530, 4.9469, 0.3817, 3.9874),
+    }
+    for geometry, (bpfo, bpfi, ftf, two_bsf) in published.items():
+        f = bearing_frequencies(geometry, 1.0)
+        assert (f.bpfo, f.bpfi, f.ftf, 2 * f.bsf) == pytest.approx((bpfo, bpfi, ftf, two_bsf), 1e-3)
+    f = bearing_frequencies(MFPT_BEARING, 25.0)
+    assert (f.bpfo, f.bpfi) == pytest.approx((81.1, 118.9), abs=0.1)
+
+
+def _impacts(fs: float, rate: float, seconds: float, seed: int) -> np.ndarray:
+    """Resonance at 3 kHz struck at ``rate`` (1 % jitter) in unit noise."""
+    rng = np.random.default_rng(seed)
+    n = int(seconds * fs)
+    x = rng.standard_normal(n)
+    tail = np.arange(int(0.005 * fs)) / fs
+    ring = 4.0 * np.exp(-800.0 * tail) * np.sin(2 * np.pi * 3000.0 * tail)
+    t = 0.01
+    while t < seconds - 0.01:
+        i = int(t * fs)
+        x[i : i + ring.size] += ring[: n - i]
+        t += (1.0 + 0.01 * rng.standard_normal()) / rate
+    return x
+
+
+def _cwru_file(folder: Path, name: str, number: int, de, fe, rpm=None) -> Path:
+    variables = {f"X{number:03d}_DE_time": de[:, None], f"X{number:03d}_FE_time": fe[:, None]}
+    if rpm is not None:
+        variables[f"X{number:03d}RPM"] = np.array([[rpm]])
+    path = folder / name
+    savemat(path, variables)
+    return path
+
+
+@pytest.fixture
+def synthetic_set(tmp_path):
+    """A drive-end outer-race record, a fan-end inner-race record (fault only on the fan-end
+    channel, no RPM variable: the nominal 1772 rpm at 1 hp) and a baseline of noise."""
+    fs = 12000.0
+    shaft = 1797 / 60.0
+    noise = np.random.default_rng(5).standard_normal(int(2 * fs))
+    bpfo = bearing_frequencies(CWRU_DRIVE_END, shaft).bpfo
+    bpfi_fan = bearing_frequencies(CWRU_FAN_END, 1772 / 60.0).bpfi
+    folder = tmp_path / "cwru"
+    folder.mkdir()
+    _cwru_file(folder, "12k_Drive_End_OR007@6_0_130.mat", 130, _impacts(fs, bpfo, 2.0, 1),
+               noise, rpm=1797)  # fmt: skip
+    _cwru_file(folder, "12k_Fan_End_IR007_1_279.mat", 279, noise, _impacts(fs, bpfi_fan, 2.0, 2))
+    normal = np.random.default_rng(6).standard_normal(int(2 * 48000.0))
+    _cwru_file(folder, "normal_0_97.mat", 97, normal, normal, rpm=1797)
+    (folder / "readme.mat").write_bytes(b"")  # not a record name: ignored
+    return folder
+
+
+def test_fan_end_record_reads_fan_channel_bearing_and_nominal_speed(synthetic_set):
+    rec = read_labelled_record(synthetic_set / "12k_Fan_End_IR007_1_279.mat")
+    assert rec.channel == "X279_FE_time" and rec.geometry == CWRU_FAN_END
+    assert rec.shaft_hz == pytest.approx(1772 / 60.0) and rec.fs == 12000.0
+    rec = read_labelled_record(synthetic_set / "normal_0_97.mat")
+    assert rec.channel == "X097_DE_time" and rec.geometry == CWRU_DRIVE_END
+    assert rec.fs == 48000.0 and rec.shaft_hz == pytest.approx(1797 / 60.0)
+
+
+def test_benchmark_names_every_synthetic_fault(synthetic_set):
+    paths = find_records(synthetic_set)
+    assert [p.name for p in paths] == [
+        "12k_Drive_End_OR007@6_0_130.mat", "12k_Fan_End_IR007_1_279.mat", "normal_0_97.mat"
+    ]  # fmt: skip
+    results = run_benchmark(paths)
+    assert [(r.expected, r.verdict) for r in results] == [
+        ("outer", "outer"), ("inner", "inner"), ("none", "none")
+    ]  # fmt: skip
+    table = summary_table(results).splitlines()
+    assert table[1].split()[:8] == ["CWRU", "12k", "drive", "end", "outer", "1", "1/1", "1"]
+    assert "CWRU 12k fan end    inner        1      1/1      0      1" in table[2]
+    assert table[-1].split() == ["all", "3", "3/3"]
+
+
+def test_benchmark_command_line(synthetic_set, tmp_path, capsys):
+    csv = tmp_path / "verdicts.csv"
+    assert main(["benchmark", str(synthetic_set), "--records", "--csv", str(csv)]) == 0
+    out = capsys.readouterr().out
+    assert "12k_Fan_End_IR007_1_279.mat: inner -> inner" in out
+    assert out.splitlines()[-2].split() == ["all", "3", "3/3"]
+    assert csv.read_text().count("\n") == 4
+    assert main(["benchmark", str(tmp_path / "absent")]) == 2
+    assert "not a folder" in capsys.readouterr().err
+
+
+# ------------------------------------------------------------- development sets (if present)
+@pytest.fixture(scope="module")
+def development_results():
+    if not DATA.is_dir():
+        pytest.skip(f"development data not available at {DATA}")
+    return run_benchmark(find_records(DATA))
+
+
+def _count(results, group_prefix, fault):
+    rows = [r for r in results if r.group.startswith(group_prefix) and r.expected == fault]
+    return sum(r.correct for r in rows), len(rows)
+
+
+def test_development_sets_read_completely(development_results):
+    assert len(development_results) == 31
+    assert not [r for r in development_results if r.verdict == "error"]
+
+
+def test_development_mfpt_and_baseline(development_results):
+    assert _count(development_results, "MFPT", "inner") == (7, 7)
+    assert _count(development_results, "MFPT", "outer") == (7, 7)
+    normal = [r for r in development_results if r.expected == "none"]
+    assert [r.verdict for r in normal] == ["none"]
+    # No record of a race fault is called a different race fault.
+    swapped = [r for r in development_results if {r.expected, r.verdict} == {"inner", "outer"}]
+    assert not swapped, [r.path.name for r in swapped]
+    assert math.isfinite(sum(r.confidence for r in development_results))
