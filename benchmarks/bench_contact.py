@@ -57,15 +57,12 @@ def main() -> int:
     from taichi_bearing.solver.cage import RigidCage
     from taichi_bearing.solver.contact import ContactPair, ContactParameters, PenaltyContact
     from taichi_bearing.solver.loads import RigidVelocity
-    from taichi_bearing.solver.materials import Material
     from taichi_bearing.solver.model import Model
 
     case = load_case(args.case)
     mesh = build_bearing_mesh(spec_from_case(case))
     info = mesh.info
-    mat = case.material
     z = len(info["roller_centres"])
-    steel = Material(mat.youngs_modulus, mat.poissons_ratio, mat.density)
     # Rolling-like motion: rings turn, rollers orbit and spin (exact kinematics are not
     # needed for the cost, only realistic motion of the surfaces).
     w = 50.0
@@ -73,7 +70,7 @@ def main() -> int:
     for j, c in enumerate(info["roller_centres"]):
         v = 0.4 * w * np.array([-c[1], c[0]])
         vel.append(RigidVelocity(f"roller{j}", omega=-3.0 * w, center=tuple(c), velocity=tuple(v)))
-    model = Model(mesh, steel, thickness=case.bearing.roller_length, initial_velocities=vel)
+    model = Model(mesh, case.material, thickness=case.bearing.roller_length, initial_velocities=vel)
     pairs = []
     for j in range(z):
         pairs.append(ContactPair(f"roller{j}_outer", f"roller{j}", "outer_raceway"))

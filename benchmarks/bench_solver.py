@@ -32,7 +32,7 @@ from taichi_bearing.mesh.primitives import rectangle_mesh  # noqa: E402
 from taichi_bearing.solver.element import element_geometry, hourglass_stiffness  # noqa: E402
 from taichi_bearing.solver.materials import Material, materials_per_element  # noqa: E402
 
-STEEL = Material(E=210e9, nu=0.3, rho=7850.0)
+STEEL = Material(210e9, 0.3, 7850.0)
 
 
 def square_mesh(n_elements: int):

@@ -7,8 +7,8 @@ class InputError(ValueError):
     """Bad user input: a file, an argument or a value. The message is one line."""
 
 
-class CaseError(InputError):
-    """An invalid case file: the message names the key path and what was expected.
+class _AtKey:
+    """A message about one key of a case: ``SOURCE: KEY: MESSAGE``.
 
     Parameters
     ----------
@@ -17,14 +17,23 @@ class CaseError(InputError):
     message : str
         What is wrong and what was expected.
     source : str, optional
-        The case file the key came from.
+        Where the key came from: the case file, or the ``--set`` argument.
     """
 
     def __init__(self, key: str, message: str, source: str | None = None) -> None:
         self.key = key
+        self.message = message
         self.source = source
         where = f"{source}: " if source else ""
         super().__init__(f"{where}{key}: {message}")
+
+
+class CaseError(_AtKey, InputError):
+    """An invalid case file: the message names the key path and what was expected."""
+
+
+class CaseWarning(_AtKey, UserWarning):
+    """A case that loads but may not do what was meant (the CLI prints it as one line)."""
 
 
 class SimulationError(RuntimeError):

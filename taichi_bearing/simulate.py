@@ -179,6 +179,7 @@ _RESUMABLE_RUN_KEYS = (
     "duration_ms",
     "frame_interval_ms",
     "checkpoint_interval_ms",
+    "max_steps",
 )
 
 

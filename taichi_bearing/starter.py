@@ -197,7 +197,7 @@ def build_setup(case: Case, mesh: Mesh) -> Setup:
         for race in RACES:
             pairs.append(ContactPair(f"{name}_{race}", name, f"{race}_raceway", two_pass=True))
     return Setup(
-        material=Material(mat.youngs_modulus, mat.poissons_ratio, mat.density),
+        material=mat,
         thickness=case.bearing.roller_length,
         constraints=[plate, shaft],
         loads=[load],

@@ -34,7 +34,6 @@ from taichi_bearing.bearing import LINE_CONTACT_EXPONENT, palmgren_stiffness, se
 from taichi_bearing.case import Case
 from taichi_bearing.mesh.types import Mesh
 from taichi_bearing.solver.linear_reference import assemble_stiffness
-from taichi_bearing.solver.materials import Material
 from taichi_bearing.starter import polar_angle_from_top, support_plate_nodes
 
 __all__ = [
@@ -108,7 +107,7 @@ def ring_compliance(case: Case, mesh: Mesh, width: float | None = None) -> RingC
     """
     b, m = case.bearing, case.material
     width = 2.0 * case.mesh.surface_size if width is None else width
-    K = assemble_stiffness(mesh, Material(m.youngs_modulus, m.poissons_ratio, m.density))
+    K = assemble_stiffness(mesh, m)
     K = K * b.roller_length
     rings = np.isin(mesh.element_part, [mesh.part_id("outer_ring"), mesh.part_id("inner_ring")])
     ring_nodes = np.unique(mesh.elements[rings])

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import dataclasses
+import json
 import math
 import subprocess
 import sys
@@ -12,15 +13,22 @@ from pathlib import Path
 import pytest
 import yaml
 
+from taichi_bearing.__main__ import main
 from taichi_bearing.case import (
+    SECTIONS,
     Case,
     CaseError,
+    CaseWarning,
     ExtendedDefectWarning,
+    Material,
     case_to_dict,
     load_case,
     parse_case,
     schema_attributes,
+    stable_step_estimate,
 )
+from taichi_bearing.case.reference import COMMAND, render_reference
+from taichi_bearing.case.sections import SENSOR_KEYS
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -268,14 +276,14 @@ def test_overrides(default_case_path):
             "run.arch=cuda",
             "output.csv=true",
             "sensors.new_point.x_mm=10",
-            "sensors.new_point.y_mm=-20.5",
+            "sensors.new_point.y_mm=-120.5",  # in the outer ring (not the unmeshed bore)
             "bearing.n_rollers=18",
         ],
     )
     assert case.operating.load == pytest.approx(80e3)
     assert case.run.arch == "cuda" and case.output.csv is True
     assert case.sensors["new_point"].x == pytest.approx(0.01)
-    assert case.sensors["new_point"].y == pytest.approx(-0.0205)
+    assert case.sensors["new_point"].y == pytest.approx(-0.1205)
     assert case.bearing.n_rollers == 18
 
 
@@ -325,10 +333,11 @@ def test_cli_bad_case_one_line_exit_2(tmp_path, raw, command):
 
 
 def test_cli_bad_override_exit_2(default_case_path):
+    # the error names the --set argument, not the case file it did not come from
     proc = _cli(str(default_case_path), "--set", "bearing.n_roler=3")
     assert proc.returncode == 2
     assert proc.stderr.strip().splitlines() == [
-        f"error: {default_case_path}: bearing.n_roler: unknown key; did you mean "
+        "error: --set bearing.n_roler=3: bearing.n_roler: unknown key; did you mean "
         "'bearing.n_rollers'?"
     ]
 
@@ -336,3 +345,225 @@ def test_cli_bad_override_exit_2(default_case_path):
 def test_cli_missing_file_exit_2(tmp_path):
     proc = _cli(str(tmp_path / "nope.yaml"))
     assert proc.returncode == 2 and len(proc.stderr.strip().splitlines()) == 1
+
+
+# --------------------------------------------------------------------------------------
+# The schema, declared once
+# --------------------------------------------------------------------------------------
+
+# float keys without a unit: ratios and coefficients
+DIMENSIONLESS = {
+    "material.poissons_ratio",
+    "mesh.growth",
+    "contact.penalty_scale",
+    "contact.friction_static",
+    "contact.friction_dynamic",
+    "contact.damping_ratio",
+    "damping.ratio",
+    "damping.max_element_ratio",
+    "preload.ke_ratio_tol",
+    "run.max_added_mass",
+}
+
+
+def test_reference_is_current():
+    committed = (ROOT / "docs" / "case_reference.md").read_text(encoding="utf-8")
+    assert committed == render_reference(), f"out of date: run {COMMAND}"
+
+
+def test_every_key_has_a_comment_and_its_unit():
+    reference = render_reference()
+    keys = [(f"{name}.{k.name}", k) for name, sec in SECTIONS.items() for k in sec.keys]
+    keys += [(f"sensors.<name>.{k.name}", k) for k in SENSOR_KEYS]
+    assert len(keys) == 52
+    for path, k in keys:
+        assert len(k.doc.split()) >= 2, path
+        assert f"| `{k.name}` |" in reference, path
+        if k.kind is float:
+            assert bool(k.unit) != (path in DIMENSIONLESS), path
+            assert k.name == (f"{k.attr}_{k.unit}" if k.unit else k.attr)
+    assert {p for p, k in keys if k.kind is float and not k.unit} == DIMENSIONLESS
+
+
+def test_loaded_values_are_file_values_times_the_unit_factor(default_case_path):
+    # the same expressions the results were computed with, bit for bit
+    case = load_case(default_case_path)
+    assert case.bearing.pitch_diameter == 200.0 * 1e-3
+    assert case.run.first_roller_angle == -4.0 * (math.pi / 180.0)
+    assert case.operating.speed == 500.0 * (2.0 * math.pi / 60.0)
+    assert case.operating.load == 50.0 * 1e3
+    assert case.material.youngs_modulus == 210.0 * 1e9
+    assert case.run.duration == 33.5 * 1e-3
+    assert case.run.max_steps == 100_000_000 and case.preload.max_steps == 200_000
+
+
+def test_one_material_for_the_case_and_the_solver(default_case_path):
+    m = load_case(default_case_path).material
+    assert type(m) is Material
+    e, nu = 210e9, 0.3
+    assert m.lam == e * nu / ((1.0 + nu) * (1.0 - 2.0 * nu))
+    assert m.mu == e / (2.0 * (1.0 + nu))
+    assert m.wave_speed == pytest.approx(6000.98, abs=0.01)
+    with pytest.raises(ValueError, match="poissons_ratio"):
+        Material(210e9, 0.5, 7850.0)
+
+
+def test_count_keys_take_whole_numbers(default_case_path):
+    case = load_case(default_case_path, ["preload.max_steps=2.5e5", "run.max_steps=1e9"])
+    assert case.preload.max_steps == 250_000 and isinstance(case.preload.max_steps, int)
+    assert case.run.max_steps == 10**9 and isinstance(case.run.max_steps, int)
+    with pytest.raises(CaseError, match="preload.max_steps: expected an integer"):
+        load_case(default_case_path, ["preload.max_steps=2.5"])
+
+
+# --------------------------------------------------------------------------------------
+# Runs that cannot end, or record the wrong point: refused before meshing
+# --------------------------------------------------------------------------------------
+
+
+@pytest.mark.parametrize(
+    ("sets", "key", "words"),
+    [
+        (["material.youngs_modulus_GPa=1e30"], "material.youngs_modulus_GPa", "below the"),
+        (["material.density_kg_m3=1e-20"], "material.density_kg_m3", "faster than in any"),
+        (
+            ["mesh.surface_size_mm=1e-6", "mesh.max_size_mm=1e-6"],
+            "mesh.surface_size_mm",
+            "elements are too small",
+        ),
+        (["run.sample_rate_Hz=1e12"], "run.sample_rate_Hz", "needs a time step below"),
+        (["run.sample_rate_Hz=5e9"], "run.sample_rate_Hz", "more than run.max_steps (1e+08)"),
+        (["run.duration_ms=1e5"], "run.duration_ms", "more than run.max_steps"),
+        (["sensors.adapter_top.y_mm=1e6"], "sensors.adapter_top.y_mm", "outside the outer"),
+        (["sensors.adapter_top.x_mm=300"], "sensors.adapter_top.x_mm", "outside the outer"),
+        (["sensors.shaft.x_mm=0", "sensors.shaft.y_mm=0"], "sensors.shaft.y_mm", "bore"),
+    ],
+)
+def test_absurd_run_is_refused(default_case_path, sets, key, words):
+    with pytest.raises(CaseError) as info:
+        load_case(default_case_path, sets)
+    assert info.value.key == key
+    assert words in info.value.message
+    # named by the --set argument it came from (a sensor by the one that created it)
+    assert info.value.source in {f"--set {s}" for s in sets}
+
+
+def test_max_steps_can_be_raised_and_lowered(default_case_path):
+    case = load_case(default_case_path, ["run.duration_ms=1e5", "run.max_steps=1e10"])
+    assert case.run.duration == pytest.approx(100.0)
+    with pytest.raises(CaseError) as info:
+        load_case(default_case_path, ["run.max_steps=1000"])
+    assert info.value.key == "run.duration_ms"
+    assert "more than run.max_steps (1000)" in info.value.message
+
+
+def test_step_estimate_is_the_step_the_default_run_used(default_case_path):
+    case = load_case(default_case_path)
+    dt = stable_step_estimate(case)
+    assert dt == case.mesh.surface_size / (math.sqrt(2.0) * case.material.wave_speed)
+    summary = json.loads((ROOT / "docs/results/line_spall/summary.json").read_text())
+    assert 0.8 < dt / summary["dt_s"] < 1.25
+    # the default case keeps far from the step limit
+    assert summary["n_steps"] < case.run.max_steps / 100
+
+
+def test_sample_rate_near_the_step_warns(default_case_path):
+    with pytest.warns(CaseWarning, match="step will be lowered") as caught:
+        load_case(default_case_path, ["run.sample_rate_Hz=2e7"])
+    assert str(caught[0].message).startswith("--set run.sample_rate_Hz=2e7: run.sample_rate_Hz:")
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        load_case(default_case_path, ["run.sample_rate_Hz=1e6"])  # 17 steps a sample
+
+
+def test_sensor_near_the_surface_is_kept(default_case_path):
+    # 4 mm above the adapter top and 3 mm off the ring's side: within three elements
+    case = load_case(
+        default_case_path,
+        ["sensors.adapter_top.y_mm=160", "sensors.side.x_mm=-129", "sensors.side.y_mm=0"],
+    )
+    assert case.sensors["adapter_top"].y == pytest.approx(0.16)
+    assert case.sensors["side"].x == pytest.approx(-0.129)
+
+
+# --------------------------------------------------------------------------------------
+# Bad case files, through the command line: one line naming file and key, exit 2
+# --------------------------------------------------------------------------------------
+
+
+def _edit(text: str, old: str, new: str) -> bytes:
+    assert text.count(old) == 1
+    return text.replace(old, new).encode()
+
+
+BAD_FILES = {
+    # name: (edit of the default case file's text -> bytes, key, words)
+    "latin-1": (
+        lambda t: b"# r\xe9sum\xe9\n" + t.encode(),
+        "line 1",
+        "not UTF-8 text (byte 0xe9)",
+    ),
+    "binary": (lambda t: bytes(range(256)) * 4, "line 1", "binary content"),
+    "duplicate": (
+        lambda t: _edit(t, "  load_kN: 50.0 ", "  load_kN: 50.0\n  load_kN: 90.0 "),
+        "operating.load_kN",
+        "given twice (lines 46 and 47)",
+    ),
+    "duplicate sensor": (
+        lambda t: _edit(t, "    y_mm: 156.0 ", "    y_mm: 156.0\n    y_mm: 150.0 "),
+        "sensors.adapter_top.y_mm",
+        "given twice",
+    ),
+    "modulus": (
+        lambda t: _edit(t, "youngs_modulus_GPa: 210.0", "youngs_modulus_GPa: 1.0e+30"),
+        "material.youngs_modulus_GPa",
+        "time step would be about",
+    ),
+    "sample rate": (
+        lambda t: _edit(t, "sample_rate_Hz: 100000.0", "sample_rate_Hz: 1.0e+12"),
+        "run.sample_rate_Hz",
+        "floor",
+    ),
+    "far sensor": (
+        lambda t: _edit(t, "y_mm: 156.0", "y_mm: 1.0e+6"),
+        "sensors.adapter_top.y_mm",
+        "no mesh node within",
+    ),
+}
+
+
+@pytest.mark.parametrize("bad", list(BAD_FILES))
+def test_bad_case_file_one_line_exit_2(tmp_path, default_case_path, capsys, bad):
+    edit, key, words = BAD_FILES[bad]
+    path = tmp_path / "case.yaml"
+    path.write_bytes(edit(default_case_path.read_text(encoding="utf-8")))
+    out = tmp_path / "out"
+    assert main(["mesh", str(path), "--out", str(out), "--no-pictures"]) == 2
+    lines = capsys.readouterr().err.strip().splitlines()
+    assert lines == [lines[0]] and lines[0].startswith(f"error: {path}: {key}: ")
+    assert words in lines[0]
+    assert not out.exists()  # refused before meshing
+
+
+def test_bad_set_names_the_argument_not_the_file(tmp_path, default_case_path, capsys):
+    out = tmp_path / "out"
+    args = ["mesh", str(default_case_path), "--out", str(out), "--no-pictures"]
+    assert main([*args, "--set", "operating.load_kN=-3"]) == 2
+    assert capsys.readouterr().err.strip().splitlines() == [
+        "error: --set operating.load_kN=-3: operating.load_kN: out of range: expected "
+        "0 < value, got -3"
+    ]
+    assert main([*args, "--set", "operating.load_kN=[1"]) == 2
+    err = capsys.readouterr().err
+    assert err.startswith("error: --set operating.load_kN=[1: operating.load_kN: value")
+    assert str(default_case_path) not in err and not out.exists()
+
+
+@pytest.mark.parametrize("bad", ["latin-1", "duplicate"])
+def test_bad_case_file_no_traceback(tmp_path, default_case_path, bad):
+    edit, key, _ = BAD_FILES[bad]
+    path = tmp_path / "case.yaml"
+    path.write_bytes(edit(default_case_path.read_text(encoding="utf-8")))
+    proc = _cli("mesh", str(path), "--out", str(tmp_path / "out"))
+    assert proc.returncode == 2 and "Traceback" not in proc.stderr
+    assert len(proc.stderr.strip().splitlines()) == 1 and key in proc.stderr

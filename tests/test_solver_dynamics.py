@@ -11,7 +11,7 @@ from taichi_bearing.solver.loads import HeldDirection, RigidVelocity, line_load
 from taichi_bearing.solver.materials import Material
 from taichi_bearing.solver.model import Model, StiffnessDamping
 
-STEEL = Material(E=210e9, nu=0.3, rho=7850.0)
+STEEL = Material(210e9, 0.3, 7850.0)
 
 
 @pytest.fixture(scope="module", autouse=True)
@@ -43,7 +43,7 @@ def test_plane_strain_dilatational_wave_speed_within_2_percent():
         sensors={"near": s1, "far": s2},
     )
     c = STEEL.wave_speed
-    v_plateau = stress / (STEEL.rho * c)  # particle velocity behind a step front
+    v_plateau = stress / (STEEL.density * c)  # particle velocity behind a step front
     n = int(0.17 / c / model.dt)
     t, vel = np.empty(n), np.empty((n, 2))
     for k in range(n):
@@ -82,7 +82,7 @@ def test_free_thin_ring_bending_frequencies_n2_n3_n4_within_3_percent():
             n
             * (n * n - 1)
             / (2 * np.pi * radius**2 * np.sqrt(n * n + 1))
-            * np.sqrt(ep * inertia / (STEEL.rho * area))
+            * np.sqrt(ep * inertia / (STEEL.density * area))
         )
         model.set_state(x=X, v=ring_mode_velocity(X, n, 1e-3))
         model.restart_accounting()

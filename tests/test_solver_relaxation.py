@@ -15,7 +15,7 @@ from taichi_bearing.solver.materials import Material
 from taichi_bearing.solver.model import Model
 from taichi_bearing.solver.relaxation import relax
 
-STEEL = Material(E=210e9, nu=0.3, rho=7850.0)
+STEEL = Material(210e9, 0.3, 7850.0)
 
 
 @pytest.fixture(scope="module", autouse=True)

@@ -1,63 +1,19 @@
-"""Isotropic elastic materials in plane strain."""
+"""Per-element material constants for the solver.
+
+The material itself is :class:`taichi_bearing.case.material.Material` (the case's
+``material`` section), re-exported here.
+"""
 
 from __future__ import annotations
 
-import math
 from collections.abc import Mapping
-from dataclasses import dataclass
 
 import numpy as np
 
+from taichi_bearing.case.material import Material
 from taichi_bearing.mesh.types import Mesh
 
 __all__ = ["Material", "materials_per_element"]
-
-
-@dataclass(frozen=True)
-class Material:
-    """Linear-elastic constants of one part (St Venant-Kirchhoff in large strain).
-
-    Parameters
-    ----------
-    E : float
-        Young's modulus, Pa.
-    nu : float
-        Poisson's ratio, in (-1, 0.5).
-    rho : float
-        Density, kg/m^3.
-    """
-
-    E: float
-    nu: float
-    rho: float
-
-    def __post_init__(self) -> None:
-        if not self.E > 0:
-            raise ValueError(f"Material.E must be positive, got {self.E!r}")
-        if not -1.0 < self.nu < 0.5:
-            raise ValueError(f"Material.nu must lie in (-1, 0.5), got {self.nu!r}")
-        if not self.rho > 0:
-            raise ValueError(f"Material.rho must be positive, got {self.rho!r}")
-
-    @property
-    def lam(self) -> float:
-        """First Lame constant, Pa."""
-        return self.E * self.nu / ((1.0 + self.nu) * (1.0 - 2.0 * self.nu))
-
-    @property
-    def mu(self) -> float:
-        """Shear modulus, Pa."""
-        return self.E / (2.0 * (1.0 + self.nu))
-
-    @property
-    def plane_strain_modulus(self) -> float:
-        """E' = E / (1 - nu^2), the bending modulus of a plane-strain beam, Pa."""
-        return self.E / (1.0 - self.nu**2)
-
-    @property
-    def wave_speed(self) -> float:
-        """Plane-strain dilatational wave speed sqrt((lambda + 2 mu) / rho), m/s."""
-        return math.sqrt((self.lam + 2.0 * self.mu) / self.rho)
 
 
 def materials_per_element(
@@ -73,6 +29,6 @@ def materials_per_element(
         mats = [materials[p] for p in mesh.part_names]
     lam = np.array([m.lam for m in mats])[mesh.element_part]
     mu = np.array([m.mu for m in mats])[mesh.element_part]
-    rho = np.array([m.rho for m in mats])[mesh.element_part]
+    rho = np.array([m.density for m in mats])[mesh.element_part]
     eprime = np.array([m.plane_strain_modulus for m in mats])[mesh.element_part]
     return lam, mu, rho, eprime
