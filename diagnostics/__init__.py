@@ -11,6 +11,13 @@ Examples
 >>> geom = dg.BearingGeometry(9, 7.94e-3, 39.04e-3)
 >>> dg.diagnose(sig.x, sig.fs, geom, sig.meta["rpm"] / 60).fault          # doctest: +SKIP
 'outer'
+
+At a varying speed, give the shaft rate per sample (from a tachometer, or estimated from
+the vibration); the diagnosis is then made in the order domain:
+
+>>> rate = dg.speed_from_tacho(sig.channel("tacho"), sig.fs, pulses_per_rev=1)  # doctest: +SKIP
+>>> dg.diagnose(sig.x, sig.fs, geom, rate).domain                           # doctest: +SKIP
+'order'
 """
 
 from diagnostics.defect_size import (
@@ -23,9 +30,17 @@ from diagnostics.diagnose import Diagnosis, FamilyScore, diagnose, prewhiten
 from diagnostics.envelope import envelope, envelope_spectrum
 from diagnostics.filters import bandpass_filter, lowpass_filter, notch_filter
 from diagnostics.frequencies import BearingGeometry, FaultFrequencies, bearing_frequencies
-from diagnostics.io import Signal, read_signal
+from diagnostics.io import Signal, read_signal, read_speed_profile
 from diagnostics.kurtosis import Kurtogram, kurtogram, sk_threshold, spectral_kurtosis
 from diagnostics.spectral import psd, stft, third_octave
+from diagnostics.speed import (
+    OrderTrack,
+    SpeedEstimate,
+    estimate_speed,
+    order_track,
+    shaft_angle,
+    speed_from_tacho,
+)
 
 __all__ = [
     "BearingGeometry",
@@ -34,7 +49,9 @@ __all__ = [
     "FamilyScore",
     "FaultFrequencies",
     "Kurtogram",
+    "OrderTrack",
     "Signal",
+    "SpeedEstimate",
     "bandpass_filter",
     "bearing_frequencies",
     "contact_speed",
@@ -42,15 +59,20 @@ __all__ = [
     "envelope",
     "envelope_spectrum",
     "estimate_defect_size",
+    "estimate_speed",
     "kurtogram",
     "lowpass_filter",
     "notch_filter",
+    "order_track",
     "prewhiten",
     "psd",
     "read_signal",
+    "read_speed_profile",
+    "shaft_angle",
     "sk_threshold",
     "spall_length_from_travel",
     "spectral_kurtosis",
+    "speed_from_tacho",
     "stft",
     "third_octave",
 ]

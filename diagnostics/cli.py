@@ -20,7 +20,7 @@ from diagnostics.compare import impact_times
 from diagnostics.diagnose import Diagnosis, diagnose, record_requirements
 from diagnostics.files import atomic_path, write_json
 from diagnostics.filters import notch_filter
-from diagnostics.frequencies import BearingGeometry
+from diagnostics.frequencies import BearingGeometry, bearing_frequencies
 
 __all__ = ["main", "build_parser", "parse_bearing", "UsageError"]
 
@@ -104,6 +104,20 @@ def add_analyze_arguments(parser: argparse.ArgumentParser) -> None:
     )
     parser.add_argument("--channel", help="column, variable or key to read")
     parser.add_argument(
+        "--tacho",
+        metavar="CHANNEL",
+        help="tachometer channel of the same file: the speed varies, diagnose in orders",
+    )
+    parser.add_argument(
+        "--ppr", type=int, default=1, help="tachometer pulses per shaft revolution (default 1)"
+    )
+    parser.add_argument(
+        "--speed-profile",
+        type=Path,
+        metavar="FILE.csv",
+        help="table of time_s and rpm (or shaft_hz): the speed varies, diagnose in orders",
+    )
+    parser.add_argument(
         "--notch",
         type=float,
         nargs="+",
@@ -145,31 +159,36 @@ def _figures(x, fs: float, d: Diagnosis, notch: list[float], raw, out: Path) -> 
     freqs = d.frequencies
     n_show = min(x.size, int(_TRACE_S * fs))
     events = None
-    if d.fault != "none":
+    orders = d.domain == "order"
+    unit = "orders" if orders else "Hz"
+    if d.fault != "none" and not orders:
         rate = {"outer": freqs.bpfo, "inner": freqs.bpfi, "ball": 2.0 * freqs.bsf}[d.fault]
         times = impact_times(x[:n_show], fs, d.band, rate)
         events = {f"{d.fault} impacts": times}
     best = d.best_band
+    envelope_figure = plots.plot_envelope_spectrum(
+        best.f,
+        best.z,
+        _markers(d),
+        title=f"Squared envelope spectrum, band {best.band[0]:.4g}-"
+        f"{best.band[1]:.4g} {unit} ({best.name})",
+        ylabel="power / local background",
+    )
+    kurtogram_figure = plots.plot_kurtogram(d.kurtogram) if d.kurtogram is not None else None
+    if orders:  # envelope spectrum and kurtogram of the order-tracked record
+        envelope_figure.axes[0].set_xlabel("order (cycles per shaft revolution)")
+        if kurtogram_figure is not None:
+            kurtogram_figure.axes[0].set_xlabel("order (cycles per shaft revolution)")
     written = [
         _save(plots.plot_time_trace(x[:n_show], fs, events), out / "trace.png"),
         _save(plots.plot_spectrogram(x[:n_show], fs, events), out / "spectrogram.png"),
         _save(plots.plot_spectral_kurtosis(x, fs), out / "spectral_kurtosis.png"),
-        _save(
-            plots.plot_envelope_spectrum(
-                best.f,
-                best.z,
-                _markers(d),
-                title=f"Squared envelope spectrum, band {best.band[0]:.0f}-"
-                f"{best.band[1]:.0f} Hz ({best.name})",
-                ylabel="power / local background",
-            ),
-            out / "envelope_spectrum.png",
-        ),
+        _save(envelope_figure, out / "envelope_spectrum.png"),
         _save(plots.plot_psd_notch(raw, fs, notch), out / "psd_notch.png"),
         _save(plots.plot_third_octave(x, fs), out / "third_octave.png"),
     ]
-    if d.kurtogram is not None:
-        written.append(_save(plots.plot_kurtogram(d.kurtogram), out / "kurtogram.png"))
+    if kurtogram_figure is not None:
+        written.append(_save(kurtogram_figure, out / "kurtogram.png"))
     return written
 
 
@@ -245,20 +264,52 @@ def check_notches(notches: list[float], fs: float) -> None:
             )
 
 
+def shaft_rate(args: argparse.Namespace, sig):
+    """Shaft rate (Hz) for ``analyze``: one value (``--rpm`` or the file's), or one per sample
+    (``--tacho`` channel or ``--speed-profile`` table). Returns ``(rate, source)``."""
+    from diagnostics.io import read_speed_profile
+    from diagnostics.speed import speed_from_tacho
+
+    given = [o for o, v in (("--rpm", args.rpm), ("--tacho", args.tacho),
+                            ("--speed-profile", args.speed_profile)) if v is not None]  # fmt: skip
+    if len(given) > 1:
+        raise UsageError(f"give one speed source, not {' and '.join(given)}")
+    if args.ppr < 1:
+        raise UsageError(
+            f"--ppr must be a positive number of pulses per revolution, got {args.ppr}"
+        )
+    if args.tacho is not None:
+        try:
+            tacho = sig.channel(args.tacho)
+            return speed_from_tacho(tacho, sig.fs, pulses_per_rev=args.ppr), "tacho"
+        except ValueError as exc:
+            raise UsageError(f"--tacho {args.tacho}: {exc}") from None
+    if args.speed_profile is not None:
+        try:
+            return read_speed_profile(args.speed_profile, sig.fs, sig.x.size), "speed profile"
+        except ValueError as exc:
+            raise UsageError(f"--speed-profile: {exc}") from None
+    rpm = args.rpm if args.rpm is not None else sig.meta.get("rpm")
+    if rpm is None:
+        raise UsageError(
+            f"{args.file}: the file holds no shaft speed; give --rpm, --tacho or --speed-profile"
+        )
+    if not (math.isfinite(rpm) and rpm > 0):
+        raise UsageError(f"--rpm must be a positive speed, got {rpm:g}")
+    return rpm / 60.0, "--rpm" if args.rpm is not None else "file"
+
+
 def run_analyze(args: argparse.Namespace) -> int:
     from diagnostics.io import read_signal
 
     geometry = parse_bearing(args.bearing)
     check_fs_option(args.fs)
     sig = read_signal(args.file, channel=args.channel, fs=args.fs)
-    rpm = args.rpm if args.rpm is not None else sig.meta.get("rpm")
-    if rpm is None:
-        raise UsageError(f"{args.file}: the file holds no shaft speed; give --rpm")
-    if not (math.isfinite(rpm) and rpm > 0):
-        raise UsageError(f"--rpm must be a positive speed, got {rpm:g}")
-    shaft_hz = rpm / 60.0
+    shaft_hz, speed_source = shaft_rate(args, sig)
+    rates = np.atleast_1d(shaft_hz)
+    rpm = float(rates.mean()) * 60.0
     check_notches(args.notch, sig.fs)
-    check_record_fits(sig, geometry, shaft_hz, args.fs is not None)
+    check_record_fits(sig, geometry, float(rates.max()), args.fs is not None)
     raw = sig.x
     x = raw
     for f0 in args.notch:
@@ -274,13 +325,21 @@ def run_analyze(args: argparse.Namespace) -> int:
         "n_samples": int(x.size),
         "duration_s": x.size / sig.fs,
         "rpm": rpm,
+        "speed": {
+            "source": speed_source,
+            "min_rpm": float(rates.min()) * 60.0,
+            "max_rpm": float(rates.max()) * 60.0,
+        },
+        "domain": d.domain,
+        "samples_per_rev": d.samples_per_rev,
         "bearing": {
             "n_rollers": geometry.n_rollers,
             "roller_diameter_m": geometry.roller_diameter,
             "pitch_diameter_m": geometry.pitch_diameter,
             "contact_angle_deg": geometry.contact_angle_deg,
         },
-        "fault_frequencies_hz": d.frequencies.as_dict(),
+        "fault_frequencies_hz": bearing_frequencies(geometry, rpm / 60.0).as_dict(),
+        "fault_orders": bearing_frequencies(geometry, 1.0).as_dict(),
         "kurtogram": None
         if kg is None
         else {
@@ -307,95 +366,46 @@ def run_analyze(args: argparse.Namespace) -> int:
 def _print_summary(sig, rpm: float, d: Diagnosis, out: Path, n_files: int) -> None:
     f = d.frequencies
     kg = d.kurtogram
+    unit = "orders" if d.domain == "order" else "Hz"
+    speed = (
+        f"{rpm:g} rpm (shaft {f.shaft:.2f} Hz)"
+        if d.domain == "time"
+        else f"varying speed, mean {rpm:.0f} rpm: order domain, {d.samples_per_rev:g} samples/rev"
+    )
     lines = [
-        f"{sig.name}: {sig.fs:g} Hz, {sig.x.size / sig.fs:.2f} s, {rpm:g} rpm "
-        f"(shaft {f.shaft:.2f} Hz)",
-        f"fault frequencies: FTF {f.ftf:.2f}  BPFO {f.bpfo:.2f}  BPFI {f.bpfi:.2f}  "
-        f"BSF {f.bsf:.2f} Hz",
+        f"{sig.name}: {sig.fs:g} Hz, {sig.x.size / sig.fs:.2f} s, {speed}",
+        f"fault frequencies: FTF {f.ftf:.4g}  BPFO {f.bpfo:.4g}  BPFI {f.bpfi:.4g}  "
+        f"BSF {f.bsf:.4g} {unit}",
     ]
     if kg is not None:
         lines.append(
-            f"kurtogram best band: {kg.band[0]:.0f}-{kg.band[1]:.0f} Hz "
+            f"kurtogram best band: {kg.band[0]:.4g}-{kg.band[1]:.4g} {unit} "
             f"(level {kg.level:.1f}, kurtosis {kg.kurtosis:.2f})"
         )
     verdict = "no bearing fault found" if d.fault == "none" else f"{d.fault} fault"
     lines += [
         f"verdict: {verdict} (confidence {d.confidence:.2f}; "
-        f"band {d.band[0]:.0f}-{d.band[1]:.0f} Hz)",
+        f"band {d.band[0]:.4g}-{d.band[1]:.4g} {unit})",
         "scores: " + "  ".join(f"{k} {v:.0f}" for k, v in d.scores.items()),
         f"wrote {n_files} files to {out}",
     ]
     print("\n".join(lines))
 
 
+# The comparison of a simulated run folder moved to the simulator's command line; the
+# comparison itself (arrays in, figures out) stays in diagnostics.compare.
+COMPARE_MOVED = (
+    "compare moved to the simulator: python -m taichi_bearing compare RUN_DIR MEASURED_FILE "
+    "[--fs HZ] [--rpm RPM] [--bearing ...] [--out DIR]"
+)
+
+
 def add_compare_arguments(parser: argparse.ArgumentParser) -> None:
-    parser.add_argument(
-        "run_dir",
-        metavar="SIMULATED_RUN_DIR",
-        type=Path,
-        help="run folder of python -m taichi_bearing (summary.json, histories.parquet)",
-    )
-    parser.add_argument(
-        "measured",
-        metavar="MEASURED_FILE",
-        nargs="+",
-        type=Path,
-        help="measured vibration record(s) (csv, txt, wav, mat, ...)",
-    )
-    parser.add_argument("--fs", type=float, help="sampling rate of the measured records, Hz")
-    parser.add_argument(
-        "--rpm", type=float, help="shaft speed of the measured records (default: from the file)"
-    )
-    parser.add_argument(
-        "--bearing",
-        help="measured bearing: n=ROLLERS,d=ROLLER_DIAMETER,D=PITCH_DIAMETER[,angle=DEG] "
-        "(default: the simulated bearing, from the run folder)",
-    )
-    parser.add_argument("--channel", help="column, variable or key of the measured records")
-    parser.add_argument("--sensor", help="sensor of the simulated run (default: the first)")
-    parser.add_argument("--out", type=Path, help="output folder (default: RUN_DIR/compare)")
+    parser.add_argument("args", nargs=argparse.REMAINDER, help=argparse.SUPPRESS)
 
 
 def run_compare(args: argparse.Namespace) -> int:
-    from diagnostics import compare
-
-    if args.fs is not None and not (math.isfinite(args.fs) and args.fs > 0):
-        raise UsageError(f"--fs must be a positive frequency in Hz, got {args.fs:g}")
-    if args.rpm is not None and not (math.isfinite(args.rpm) and args.rpm > 0):
-        raise UsageError(f"--rpm must be a positive speed, got {args.rpm:g}")
-    if not args.run_dir.is_dir():
-        raise UsageError(f"{args.run_dir}: not a folder (give a simulated run folder)")
-    sim = compare.read_run_record(args.run_dir, args.sensor)
-    if args.bearing:
-        geometry = parse_bearing(args.bearing)
-    else:
-        geometry = compare.run_geometry(args.run_dir)
-        if geometry is None:
-            raise UsageError(
-                f"{args.run_dir}: no bearing geometry in summary.json or case.yaml; give "
-                "--bearing for the measured records"
-            )
-    records = [sim] + [
-        compare.measured_record(path, geometry, rpm=args.rpm, fs=args.fs, channel=args.channel)
-        for path in args.measured
-    ]
-    analyses = [compare.analyse(r) for r in records]
-    out = args.out if args.out is not None else args.run_dir / "compare"
-    figures = compare.compare_figures(records, analyses, out)
-    summary = compare.compare_summary(records, analyses)
-    summary["figures"] = figures
-    write_json(out / "summary.json", summary)
-    for it in summary["records"]:
-        ratios = ", ".join(f"{v:.3g}" for v in it["bpfo_harmonic_ratios"])
-        print(
-            f"{it['label']}: {it['fs_hz']:g} Hz, {it['duration_s']:.3g} s "
-            f"({it['bpfo_periods']:.3g} BPFO periods), BPFO {it['bpfo_hz']:.4g} Hz, band "
-            f"{it['band_hz'][0]:.0f}-{it['band_hz'][1]:.0f} Hz, BPFO x1..5 / median: {ratios}"
-        )
-        for note in it["notes"]:
-            print(f"  note: {note}")
-    print(f"wrote {len(figures) + 1} files to {out}")
-    return 0
+    raise UsageError(COMPARE_MOVED)
 
 
 def add_benchmark_arguments(parser: argparse.ArgumentParser) -> None:

@@ -49,7 +49,7 @@ Method (Randall and Antoni 2011; Smith and Randall 2015, the CWRU benchmark):
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 from scipy import fft as sp_fft
@@ -59,6 +59,7 @@ from diagnostics._checks import check_positive, check_positive_int, check_signal
 from diagnostics.envelope import envelope
 from diagnostics.frequencies import BearingGeometry, FaultFrequencies, bearing_frequencies
 from diagnostics.kurtosis import kurtogram
+from diagnostics.speed import check_speed_profile, order_track, shaft_angle
 
 __all__ = [
     "FAMILIES",
@@ -197,6 +198,12 @@ class Diagnosis:
         Fast kurtogram of the prewhitened signal (``diagnostics.kurtosis.Kurtogram``), or None.
     alpha : float
         False-alarm probability the detection thresholds were set for.
+    domain : str
+        ``"time"``: frequencies and bands in Hz. ``"order"``: the record was order-tracked
+        (a varying speed), and every frequency and band is in orders (cycles per shaft
+        revolution), ``frequencies`` at a shaft rate of 1.
+    samples_per_rev : float or None
+        Angular sampling of the order domain (None in time).
     """
 
     fault: str
@@ -208,6 +215,8 @@ class Diagnosis:
     bands: tuple[BandScore, ...] = field(repr=False)
     kurtogram: object | None = field(default=None, repr=False)
     alpha: float = 1e-4
+    domain: str = "time"
+    samples_per_rev: float | None = None
 
     @property
     def best_band(self) -> BandScore:
@@ -520,7 +529,7 @@ def diagnose(
     x,
     fs: float,
     geometry: BearingGeometry,
-    shaft_hz: float,
+    shaft_hz,
     *,
     slip: float = 0.02,
     n_harmonics: int = 5,
@@ -528,8 +537,15 @@ def diagnose(
     min_modulation: float = 0.05,
     nlevel: int = 7,
     use_kurtogram: bool = True,
+    samples_per_rev: float | None = None,
 ) -> Diagnosis:
     """Diagnose a rolling element bearing from one vibration record.
+
+    At a steady speed the record is analysed in time. Where ``shaft_hz`` is a speed profile
+    that varies by more than half the slip tolerance over the record, the record is first
+    resampled at uniform shaft-angle increments (:func:`diagnostics.speed.order_track`) and
+    analysed in the order domain: the same method with frequencies in orders (cycles per
+    shaft revolution), the sampling rate in samples per revolution and a shaft rate of 1.
 
     Parameters
     ----------
@@ -539,8 +555,10 @@ def diagnose(
         Sampling rate in Hz.
     geometry : BearingGeometry
         Bearing dimensions (metres).
-    shaft_hz : float
-        Shaft (inner ring) speed in Hz.
+    shaft_hz : float or array_like
+        Shaft (inner ring) speed in Hz: one value, or the instantaneous rate at every sample
+        of ``x`` (see :func:`diagnostics.speed.speed_from_tacho` and
+        :func:`diagnostics.speed.estimate_speed`).
     slip : float
         Relative tolerance on every fault frequency (rolling slip and speed error).
     n_harmonics : int
@@ -555,23 +573,76 @@ def diagnose(
         Depth of the fast kurtogram (reduced for a record too short for it).
     use_kurtogram : bool
         Add the kurtogram's best band to the whole prewhitened band.
+    samples_per_rev : float, optional
+        Angular sampling of the order domain; default ``fs / min(shaft_hz)``, which keeps the
+        record's whole band at the slowest speed.
 
     Returns
     -------
     Diagnosis
-        Verdict, band, scores, confidence and the details behind them.
+        Verdict, band, scores, confidence and the details behind them; ``domain`` says
+        whether they are in Hz (``"time"``) or in orders (``"order"``).
 
     Raises
     ------
     ValueError
-        On an invalid signal, sampling rate, speed, option, or a record too short.
+        On an invalid signal, sampling rate, speed or speed profile, option, or a record
+        too short.
 
     Examples
     --------
     >>> d = diagnose(x, 12000.0, BearingGeometry(9, 7.94e-3, 39.04e-3), 29.95)  # doctest: +SKIP
     >>> d.fault, round(d.confidence, 2)                                          # doctest: +SKIP
     ('outer', 1.0)
+    >>> rate = speed_from_tacho(tacho, fs, pulses_per_rev=1)                 # doctest: +SKIP
+    >>> diagnose(x, fs, geometry, rate).domain                                   # doctest: +SKIP
+    'order'
     """
+    options = dict(
+        slip=slip,
+        n_harmonics=n_harmonics,
+        alpha=alpha,
+        min_modulation=min_modulation,
+        nlevel=nlevel,
+        use_kurtogram=use_kurtogram,
+    )
+    if np.ndim(shaft_hz) == 0:
+        return _diagnose_steady(x, fs, geometry, shaft_hz, **options)
+    fs = check_positive(fs, "fs", unit=" in Hz")
+    x = check_varying(check_signal(x, fs))
+    rate = check_speed_profile(shaft_hz, x.size)
+    if np.ptp(rate) <= 0.5 * check_positive(slip, "slip") * float(rate.mean()):
+        return _diagnose_steady(x, fs, geometry, float(rate.mean()), **options)
+    spr = float(math.ceil(fs / float(rate.min()))) if samples_per_rev is None else samples_per_rev
+    spr = check_positive(spr, "samples_per_rev")
+    orders = bearing_frequencies(geometry, 1.0)
+    slowest = min(orders.bpfo, orders.bpfi, 2.0 * orders.bsf)
+    revolutions = float(shaft_angle(rate, fs)[-1])
+    needed = 20.0 / slowest + 2.0 * _TAPER_S
+    if revolutions < needed:
+        raise ValueError(
+            f"x is too short: the record covers {revolutions:.3g} shaft revolutions; diagnose "
+            f"needs {needed:.3g} (20 periods of the slowest fault order, {slowest:.4g})"
+        )
+    tracked = order_track(x, fs, rate, spr)
+    d = _diagnose_steady(tracked.x, spr, geometry, 1.0, **options)
+    return replace(d, domain="order", samples_per_rev=spr)
+
+
+def _diagnose_steady(
+    x,
+    fs: float,
+    geometry: BearingGeometry,
+    shaft_hz: float,
+    *,
+    slip: float,
+    n_harmonics: int,
+    alpha: float,
+    min_modulation: float,
+    nlevel: int,
+    use_kurtogram: bool,
+) -> Diagnosis:
+    """:func:`diagnose` at one shaft rate (Hz, or 1 in the order domain)."""
     fs, shaft_hz = check_bearing_inputs(geometry, fs, shaft_hz)
     slip = check_positive(slip, "slip")
     if slip >= 0.1:

@@ -171,6 +171,74 @@ def read_signal(path, channel=None, fs: float | None = None) -> Signal:
     return Signal(x=x, fs=rate, name=name, meta=meta, channels=channels)
 
 
+_RPM_NAMES = ("rpm", "speed_rpm", "shaft_rpm")
+_HZ_NAMES = ("shaft_hz", "speed_hz", "hz", "rate_hz", "frequency_hz")
+
+
+def read_speed_profile(path, fs: float, n_samples: int) -> np.ndarray:
+    """Shaft rate at every sample of a record, from a speed-profile table.
+
+    Parameters
+    ----------
+    path : str or path-like
+        CSV or TXT table with a time column (``time_s``, ``t``, ``time``, ...) and a speed
+        column, ``rpm`` (rev/min) or ``shaft_hz`` (Hz), at any increasing times.
+    fs : float
+        Sampling rate of the record, Hz.
+    n_samples : int
+        Length of the record.
+
+    Returns
+    -------
+    numpy.ndarray
+        Shaft rate (Hz) at each sample time ``k / fs``: linear between the table's rows,
+        held before the first and after the last.
+
+    Raises
+    ------
+    ValueError
+        For a missing or unreadable file, a missing time or speed column, times not
+        increasing, speeds not finite and positive, or a table that ends before a tenth of
+        the record has passed.
+    """
+    import pandas as pd
+
+    path = Path(path)
+    if path.is_dir():
+        raise ValueError(f"{path}: is a folder, not a speed-profile file")
+    if not path.is_file():
+        raise ValueError(f"file not found: {path}")
+    fs = check_fs(fs)
+    try:
+        frame = _read_text_table(path)
+    except ValueError:
+        raise
+    except Exception as exc:
+        raise ValueError(f"{path}: cannot read as a table ({exc})") from None
+    names = {str(c).strip().lower(): c for c in frame.columns}
+    time_key = next((names[k] for k in names if _is_time_name(k)), None)
+    rpm_key = next((names[k] for k in _RPM_NAMES if k in names), None)
+    hz_key = next((names[k] for k in _HZ_NAMES if k in names), None)
+    if time_key is None or (rpm_key is None and hz_key is None):
+        raise ValueError(
+            f"{path}: a speed profile needs a time column (time_s) and a speed column (rpm or "
+            f"shaft_hz); columns: {', '.join(map(str, frame.columns))}"
+        )
+    t = pd.to_numeric(frame[time_key], errors="coerce").to_numpy(dtype=float)
+    speed = pd.to_numeric(frame[rpm_key if rpm_key is not None else hz_key], errors="coerce")
+    rate = speed.to_numpy(dtype=float) / (60.0 if rpm_key is not None else 1.0)
+    if t.size < 2 or not np.all(np.isfinite(t)) or np.any(np.diff(t) <= 0):
+        raise ValueError(f"{path}: the time column must hold two or more increasing values")
+    if not np.all(np.isfinite(rate) & (rate > 0)):
+        raise ValueError(f"{path}: every speed must be finite and positive")
+    duration = n_samples / fs
+    if t[-1] < 0.1 * duration or t[0] > 0.9 * duration:
+        raise ValueError(
+            f"{path}: the profile spans {t[0]:g}..{t[-1]:g} s, the record 0..{duration:g} s"
+        )
+    return np.interp(np.arange(n_samples) / fs, t, rate)
+
+
 def resolve_channel(path, channel, names) -> str:
     """Name of the channel ``channel`` picks among ``names``.
 

@@ -1,0 +1,450 @@
+"""Shaft speed that varies over a record: from a tachometer, from the vibration itself, and
+angular resampling (order tracking).
+
+A bearing's fault frequencies are fixed multiples (orders) of the shaft rate. When the speed
+changes over a record, each fault line of the envelope spectrum smears over the range the
+speed covers; resampled at constant shaft-angle increments, the record turns the fault
+frequencies back into fixed orders (cycles per revolution), and the envelope spectrum of the
+resampled record shows them as lines again (computed order tracking, Fyfe and Munck 1997;
+for bearings under varying speed, Borghesani et al. 2013).
+
+* :func:`speed_from_tacho`: shaft rate per sample from a once- or N-per-revolution pulse train.
+* :func:`estimate_speed`: shaft rate per sample from the vibration (no tachometer): the
+  ridge of the shaft harmonics in the spectrogram, with a confidence.
+* :func:`order_track`: the record at uniform shaft-angle increments, after an anti-aliasing
+  low-pass.
+* :func:`shaft_angle`: shaft angle (revolutions) at every sample, the integral of the rate.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+from scipy import interpolate, ndimage, signal
+
+from diagnostics._checks import (
+    check_positive,
+    check_positive_int,
+    check_signal,
+    check_varying,
+)
+
+__all__ = [
+    "OrderTrack",
+    "SpeedEstimate",
+    "check_speed_profile",
+    "estimate_speed",
+    "order_track",
+    "shaft_angle",
+    "speed_from_tacho",
+]
+
+
+def check_speed_profile(shaft_hz, n: int, name: str = "shaft_hz") -> np.ndarray:
+    """Return a speed profile as a 1-D float array of ``n`` finite positive rates (Hz).
+
+    Raises
+    ------
+    ValueError
+        If the profile is not numeric and 1-D, has another length than the record, or
+        holds a rate that is not finite and positive.
+    """
+    try:
+        rate = np.asarray(shaft_hz, dtype=np.float64)
+    except (TypeError, ValueError):
+        raise ValueError(f"{name} must be a number or an array of rates in Hz") from None
+    if rate.ndim != 1:
+        raise ValueError(f"{name} must be a scalar or a 1-D array, got shape {rate.shape}")
+    if rate.size != n:
+        raise ValueError(
+            f"{name} holds {rate.size} rates but the record {n} samples: give one rate per "
+            "sample (see speed_from_tacho, estimate_speed)"
+        )
+    bad = ~(np.isfinite(rate) & (rate > 0))
+    if bad.any():
+        first = int(np.argmax(bad))
+        raise ValueError(
+            f"{name} must be finite and positive (Hz); sample {first} holds {rate[first]!r}"
+        )
+    return rate
+
+
+def shaft_angle(shaft_hz, fs: float) -> np.ndarray:
+    """Shaft angle in revolutions at every sample: the trapezoidal integral of the rate.
+
+    Parameters
+    ----------
+    shaft_hz : array_like
+        Shaft rate (Hz) at every sample.
+    fs : float
+        Sampling rate in Hz.
+
+    Returns
+    -------
+    numpy.ndarray
+        Angle in revolutions, 0 at the first sample.
+
+    Examples
+    --------
+    >>> shaft_angle(np.full(5, 10.0), 100.0)            # 10 rev/s for 40 ms
+    array([0. , 0.1, 0.2, 0.3, 0.4])
+    """
+    fs = check_positive(fs, "fs", unit=" in Hz")
+    rate = np.asarray(shaft_hz, dtype=np.float64)
+    steps = 0.5 * (rate[1:] + rate[:-1]) / fs
+    return np.concatenate([[0.0], np.cumsum(steps)])
+
+
+# ------------------------------------------------------------------------------ tachometer
+def speed_from_tacho(
+    tacho, fs: float, pulses_per_rev: int = 1, threshold: float | None = None
+) -> np.ndarray:
+    """Shaft rate at every sample from a tachometer pulse train.
+
+    Each pulse's rising edge through ``threshold`` is located to a fraction of a sample (linear
+    interpolation between the samples either side); edge ``k`` is at shaft angle
+    ``k / pulses_per_rev`` revolutions. A monotone cubic (PCHIP) through these angles is
+    differentiated at every sample; before the first and after the last edge the rate is
+    held at its value there.
+
+    Parameters
+    ----------
+    tacho : array_like
+        1-D pulse signal (any unit): a once- or N-per-revolution key-phasor or encoder.
+    fs : float
+        Sampling rate in Hz.
+    pulses_per_rev : int
+        Pulses per shaft revolution.
+    threshold : float, optional
+        Level of the rising edges; default halfway between the 5th and 95th percentiles.
+
+    Returns
+    -------
+    numpy.ndarray
+        Shaft rate (Hz) at every sample of ``tacho``.
+
+    Raises
+    ------
+    ValueError
+        On an invalid signal, rate or pulse count, a constant signal, a threshold that no
+        edge crosses, or fewer than three edges.
+
+    Examples
+    --------
+    >>> fs = 1000.0
+    >>> t = np.arange(2000) / fs
+    >>> tacho = (np.sin(2 * np.pi * 5.0 * t) > 0.9).astype(float)     # 5 rev/s, 1 pulse
+    >>> rate = speed_from_tacho(tacho, fs)
+    >>> round(float(rate[1000]), 3)
+    5.0
+    """
+    x = check_varying(check_signal(tacho, fs, name="tacho"), "tacho")
+    fs = float(fs)
+    ppr = check_positive_int(pulses_per_rev, "pulses_per_rev")
+    if threshold is None:
+        lo, hi = np.percentile(x, [5.0, 95.0])
+        if hi <= lo:
+            lo, hi = float(x.min()), float(x.max())
+        threshold = 0.5 * (lo + hi)
+    else:
+        threshold = float(threshold)
+        if not (x.min() < threshold < x.max()):
+            raise ValueError(
+                f"threshold {threshold:g} is outside the tacho signal's range "
+                f"({x.min():g} .. {x.max():g})"
+            )
+    above = x >= threshold
+    edges = np.flatnonzero(~above[:-1] & above[1:])
+    if edges.size < 3:
+        raise ValueError(
+            f"tacho holds {edges.size} rising edge(s) through {threshold:g}; need at least 3 "
+            "(check the channel, threshold and pulses_per_rev)"
+        )
+    # Sub-sample edge times by linear interpolation across the crossing.
+    a, b = x[edges], x[edges + 1]
+    times = (edges + (threshold - a) / (b - a)) / fs
+    angle = np.arange(edges.size) / ppr
+    t = np.arange(x.size) / fs
+    curve = interpolate.PchipInterpolator(times, angle, extrapolate=False)
+    rate = curve.derivative()(np.clip(t, times[0], times[-1]))
+    if not np.all(np.isfinite(rate) & (rate > 0)):
+        raise ValueError("tacho edges are not in increasing angle (a pulse missing or doubled)")
+    return rate
+
+
+# ----------------------------------------------------------------------- from the vibration
+@dataclass(frozen=True)
+class SpeedEstimate:
+    """Result of :func:`estimate_speed`.
+
+    Attributes
+    ----------
+    shaft_hz : numpy.ndarray
+        Shaft rate (Hz) at every sample of the record.
+    confidence : float
+        In [0, 1]: the share of spectrogram frames whose ridge stands clearly above the
+        frame's own harmonic-sum background (a salience of 4; random noise rarely reaches it).
+    times : numpy.ndarray
+        Frame centres (s).
+    ridge_hz : numpy.ndarray
+        Shaft rate of each frame.
+    salience : numpy.ndarray
+        Each frame's ridge value over that frame's median in the search range.
+    """
+
+    shaft_hz: np.ndarray = field(repr=False)
+    confidence: float
+    times: np.ndarray = field(repr=False)
+    ridge_hz: np.ndarray = field(repr=False)
+    salience: np.ndarray = field(repr=False)
+
+
+# A frame counts toward the confidence when its ridge is this many times its background.
+_SALIENCE = 4.0
+
+
+def estimate_speed(
+    x,
+    fs: float,
+    f_min: float,
+    f_max: float,
+    *,
+    n_harmonics: int = 8,
+    nperseg: int | None = None,
+    max_change: float = 0.5,
+) -> SpeedEstimate:
+    """Shaft rate over a record from the vibration alone: the speed ridge of the spectrogram.
+
+    Every rotating machine vibrates at multiples of its shaft rate. Each spectrogram frame's
+    power is summed over ``n_harmonics`` multiples of every candidate rate in ``f_min..f_max``
+    (harmonic summation: the candidate whose harmonics all carry power wins over its own
+    sub-multiples, which collect only some of them), normalised by the frame's median, and the
+    ridge is the path through the frames that maximises the summed log-salience while the rate
+    changes by at most ``max_change`` of itself per second (dynamic programming). The rate at
+    every sample is a monotone cubic through the frame centres, held at the ends.
+
+    Parameters
+    ----------
+    x : array_like
+        1-D vibration record.
+    fs : float
+        Sampling rate in Hz.
+    f_min, f_max : float
+        Range of the shaft rate in Hz (``0 < f_min < f_max``, ``n_harmonics * f_max`` below
+        fs/2).
+    n_harmonics : int
+        Shaft harmonics summed per candidate.
+    nperseg : int, optional
+        Spectrogram frame; default four periods of ``f_min`` (a resolution of ``f_min / 4``,
+        refined by the harmonics).
+    max_change : float
+        Largest relative change of the rate per second along the ridge.
+
+    Returns
+    -------
+    SpeedEstimate
+        Rate per sample, confidence, and the frame ridge behind it.
+
+    Raises
+    ------
+    ValueError
+        On an invalid signal, rate or range, or a record shorter than two frames.
+
+    Examples
+    --------
+    >>> fs = 4000.0
+    >>> t = np.arange(int(8 * fs)) / fs
+    >>> rate = 10.0 + 1.25 * t                               # 10 -> 20 Hz over 8 s
+    >>> angle = np.cumsum(rate) / fs
+    >>> x = sum(np.cos(2 * np.pi * k * angle) for k in range(1, 6))
+    >>> est = estimate_speed(x, fs, 5.0, 30.0)
+    >>> bool(np.allclose(est.shaft_hz[4000:-4000], rate[4000:-4000], rtol=0.03))
+    True
+    >>> est.confidence > 0.9
+    True
+    """
+    x = check_varying(check_signal(x, fs))
+    fs = float(fs)
+    f_min = check_positive(f_min, "f_min", unit=" in Hz")
+    f_max = check_positive(f_max, "f_max", unit=" in Hz")
+    if f_min >= f_max:
+        raise ValueError(f"f_min ({f_min:g} Hz) must be below f_max ({f_max:g} Hz)")
+    n_harmonics = check_positive_int(n_harmonics, "n_harmonics")
+    if n_harmonics * f_max >= fs / 2.0:
+        raise ValueError(
+            f"n_harmonics * f_max = {n_harmonics * f_max:g} Hz must be below fs/2 = {fs / 2:g} Hz"
+        )
+    max_change = check_positive(max_change, "max_change")
+    if nperseg is None:
+        nperseg = int(2 ** math.ceil(math.log2(4.0 * fs / f_min)))
+    nperseg = check_positive_int(nperseg, "nperseg", minimum=16)
+    if x.size < 2 * nperseg:
+        raise ValueError(
+            f"x is too short to track the speed: {x.size} samples, need at least {2 * nperseg} "
+            f"(two frames of {nperseg}; raise f_min or give nperseg)"
+        )
+    hop = nperseg // 4
+    # Zero-padded four times: the harmonics are read between bins without scalloping bias.
+    freqs, times, Z = signal.stft(
+        x - x.mean(),
+        fs,
+        nperseg=nperseg,
+        noverlap=nperseg - hop,
+        nfft=4 * nperseg,
+        boundary=None,
+        padded=False,
+    )
+    power = np.abs(Z) ** 2
+    # Candidate rates on a grid finer than the frame's resolution shared by the harmonics.
+    step = 4.0 * (freqs[1] - freqs[0]) / (2.0 * n_harmonics)
+    grid = np.arange(f_min, f_max + step / 2, step)
+    summed = np.zeros((grid.size, times.size))
+    for k in range(1, n_harmonics + 1):
+        position = k * grid / (freqs[1] - freqs[0])
+        summed += ndimage.map_coordinates(
+            power,
+            [np.repeat(position, times.size), np.tile(np.arange(times.size), grid.size)],
+            order=1,
+        ).reshape(grid.size, times.size)
+    background = np.median(summed, axis=0, keepdims=True)
+    salience = summed / np.maximum(background, np.finfo(float).tiny)
+    ridge = _best_path(np.log(np.maximum(salience, 1e-12)), grid, times, max_change)
+    ridge_hz = grid[ridge]
+    frame_salience = salience[ridge, np.arange(times.size)]
+    confidence = float(np.mean(frame_salience >= _SALIENCE))
+    t = np.arange(x.size) / fs
+    if times.size == 1:
+        rate = np.full(x.size, ridge_hz[0])
+    else:
+        curve = interpolate.PchipInterpolator(times, ridge_hz)
+        rate = curve(np.clip(t, times[0], times[-1]))
+    return SpeedEstimate(rate, confidence, times, ridge_hz, frame_salience)
+
+
+def _best_path(score: np.ndarray, grid: np.ndarray, times: np.ndarray, max_change: float):
+    """Grid index per frame maximising the summed score, with a bounded step per frame."""
+    n_grid, n_frames = score.shape
+    dt = times[1] - times[0] if times.size > 1 else 1.0
+    # Steps allowed from one frame to the next, in grid cells (relative change at f_max).
+    reach = max(1, int(math.ceil(max_change * dt * grid[-1] / (grid[1] - grid[0]))))
+    total = score[:, 0].copy()
+    back = np.zeros((n_grid, n_frames), dtype=np.int64)
+    for j in range(1, n_frames):
+        # Best predecessor within +-reach cells: a running maximum over the window.
+        padded = np.concatenate([np.full(reach, -np.inf), total, np.full(reach, -np.inf)])
+        windows = np.lib.stride_tricks.sliding_window_view(padded, 2 * reach + 1)
+        offset = np.argmax(windows, axis=1)
+        back[:, j] = np.arange(n_grid) + offset - reach
+        total = windows[np.arange(n_grid), offset] + score[:, j]
+    path = np.empty(n_frames, dtype=np.int64)
+    path[-1] = int(np.argmax(total))
+    for j in range(n_frames - 1, 0, -1):
+        path[j - 1] = back[path[j], j]
+    return path
+
+
+# --------------------------------------------------------------------------- order tracking
+@dataclass(frozen=True)
+class OrderTrack:
+    """Result of :func:`order_track`.
+
+    Attributes
+    ----------
+    x : numpy.ndarray
+        The record at uniform shaft-angle increments.
+    samples_per_rev : float
+        Angular sampling rate: samples per shaft revolution (the "fs" of the order domain,
+        where frequencies are orders, cycles per revolution).
+    angle : numpy.ndarray
+        Shaft angle (revolutions) of each resampled point.
+    times : numpy.ndarray
+        Time (s) of each resampled point.
+    cutoff_order : float
+        Anti-aliasing cut-off, in orders.
+    """
+
+    x: np.ndarray = field(repr=False)
+    samples_per_rev: float
+    angle: np.ndarray = field(repr=False)
+    times: np.ndarray = field(repr=False)
+    cutoff_order: float
+
+
+def order_track(x, fs: float, shaft_hz, samples_per_rev: float, *, axis: int = -1) -> OrderTrack:
+    """Resample a record at uniform shaft-angle increments (computed order tracking).
+
+    The shaft angle is the integral of ``shaft_hz``; the record is evaluated at angles
+    ``k / samples_per_rev`` by cubic interpolation. An angular sampling of ``samples_per_rev``
+    holds orders up to ``samples_per_rev / 2``; at the slowest speed that is
+    ``samples_per_rev / 2 * min(shaft_hz)`` Hz, so the record is first low-passed (zero-phase
+    Butterworth, 8th order) at 0.8 of that frequency when it lies below fs/2: nothing above
+    the angular Nyquist order folds back.
+
+    Parameters
+    ----------
+    x : array_like
+        Record, samples along ``axis`` (several channels at once for a 2-D ``x``).
+    fs : float
+        Sampling rate in Hz.
+    shaft_hz : float or array_like
+        Shaft rate (Hz): one value, or one per sample.
+    samples_per_rev : float
+        Angular sampling rate of the result, samples per revolution.
+    axis : int
+        Axis of ``x`` that runs along time.
+
+    Returns
+    -------
+    OrderTrack
+        ``x`` resampled in angle (same axis), its angles and times.
+
+    Raises
+    ------
+    ValueError
+        On an invalid record, rate, speed profile or angular rate, or a record shorter than
+        two revolutions.
+
+    Examples
+    --------
+    >>> fs = 2000.0
+    >>> t = np.arange(int(4 * fs)) / fs
+    >>> rate = 5.0 + 2.5 * t                                 # 5 -> 15 rev/s
+    >>> x = np.cos(2 * np.pi * 3.0 * shaft_angle(rate, fs))  # order 3
+    >>> ot = order_track(x, fs, rate, samples_per_rev=64)
+    >>> spectrum = np.abs(np.fft.rfft(ot.x))
+    >>> orders = np.fft.rfftfreq(ot.x.size, 1.0 / ot.samples_per_rev)
+    >>> round(float(orders[np.argmax(spectrum)]), 2)
+    3.0
+    """
+    fs = check_positive(fs, "fs", unit=" in Hz")
+    data = np.moveaxis(np.asarray(x, dtype=np.float64), axis, -1)
+    if data.ndim == 0 or data.shape[-1] < 2:
+        raise ValueError("x must hold at least 2 samples along axis")
+    if not np.all(np.isfinite(data)):
+        raise ValueError("x holds NaN or inf")
+    n = data.shape[-1]
+    rate = np.asarray(shaft_hz, dtype=np.float64)
+    if rate.ndim == 0:
+        rate = np.full(n, check_positive(float(rate), "shaft_hz", unit=" in Hz"))
+    else:
+        rate = check_speed_profile(rate, n)
+    spr = check_positive(samples_per_rev, "samples_per_rev")
+    angle = shaft_angle(rate, fs)
+    if angle[-1] < 2.0:
+        raise ValueError(
+            f"the record covers {angle[-1]:.3g} shaft revolutions; order tracking needs at least 2"
+        )
+    cutoff_hz = 0.8 * 0.5 * spr * float(rate.min())
+    if cutoff_hz < 0.5 * fs * 0.999:
+        sos = signal.butter(8, cutoff_hz, btype="lowpass", output="sos", fs=fs)
+        padlen = min(3 * (2 * len(sos) + 1), n - 1)
+        data = signal.sosfiltfilt(sos, data, axis=-1, padlen=padlen)
+    targets = np.arange(0.0, angle[-1], 1.0 / spr)
+    times = np.interp(targets, angle, np.arange(n) / fs)
+    spline = interpolate.make_interp_spline(angle, data, k=3, axis=-1)
+    resampled = np.moveaxis(spline(targets), -1, axis)
+    # Orders kept everywhere in the record: the filter's, or the band the sampling holds.
+    cutoff_order = min(0.4 * spr, 0.5 * fs / float(rate.max()))
+    return OrderTrack(resampled, spr, targets, times, cutoff_order)

@@ -1,0 +1,244 @@
+"""Varying speed: shaft rate from a tachometer and from the vibration, order tracking, and
+diagnosis in the order domain of synthetic bearings whose speed changes 2.5x over the record
+(impacts at the fault order ringing a fixed structural resonance, shaft-harmonic
+interference, noise), where the fixed-speed verdict fails."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from diagnostics import BearingGeometry, bearing_frequencies, diagnose
+from diagnostics.speed import (
+    estimate_speed,
+    order_track,
+    shaft_angle,
+    speed_from_tacho,
+)
+
+GEOMETRY = BearingGeometry(9, 7.94e-3, 39.04e-3)
+ORDERS = bearing_frequencies(GEOMETRY, 1.0)  # fault frequencies as orders
+FS = 20000.0
+
+
+def ramp(seconds: float = 6.0, f_start: float = 10.0, f_end: float = 25.0) -> np.ndarray:
+    t = np.arange(int(seconds * FS)) / FS
+    return f_start + (f_end - f_start) * t / seconds
+
+
+def bearing_record(fault: str, rate: np.ndarray, seed: int = 0) -> np.ndarray:
+    """Impacts at the fault order (0.5 % random spacing), each ringing a 3.5 kHz resonance
+    with a strength growing with speed; inner-race impacts modulated once per shaft turn,
+    ball impacts once per cage turn; six shaft harmonics twice the noise; unit noise."""
+    rng = np.random.default_rng(seed)
+    n = rate.size
+    t = np.arange(n) / FS
+    theta = shaft_angle(rate, FS)
+    order = {"outer": ORDERS.bpfo, "inner": ORDERS.bpfi, "ball": 2.0 * ORDERS.bsf}[fault]
+    spacing = (1.0 + 0.005 * rng.standard_normal(int(theta[-1] * order) + 5)) / order
+    angles = np.cumsum(spacing)
+    angles = angles[angles < theta[-1] - 0.02]
+    times = np.interp(angles, theta, t)
+    tail = np.arange(int(0.004 * FS)) / FS
+    ring = np.exp(-900.0 * tail) * np.sin(2 * np.pi * 3500.0 * tail)
+    x = rng.standard_normal(n)
+    for angle, when in zip(angles, times, strict=True):
+        weight = 3.0 * np.interp(when, t, rate) / rate.mean()
+        if fault == "inner":
+            weight *= 1.0 + 0.8 * np.cos(2 * np.pi * angle)
+        elif fault == "ball":
+            weight *= 1.0 + 0.8 * np.cos(2 * np.pi * ORDERS.ftf * angle)
+        i = int(round(when * FS))
+        x[i : i + ring.size] += weight * ring[: n - i]
+    return x + sum(2.0 / m * np.cos(2 * np.pi * m * theta + m) for m in range(1, 7))
+
+
+def tacho_pulses(rate: np.ndarray, pulses_per_rev: int = 1) -> np.ndarray:
+    """Square pulses 5 % of a pulse period wide, one at each 1/pulses_per_rev turn."""
+    return (np.mod(shaft_angle(rate, FS) * pulses_per_rev, 1.0) < 0.05).astype(float) * 5.0
+
+
+# ---------------------------------------------------------------------------------- speed
+@pytest.mark.parametrize("ppr", [1, 4])
+def test_speed_from_tacho_follows_the_profile(ppr):
+    rate = ramp() + 2.0 * np.sin(2 * np.pi * 0.3 * np.arange(int(6 * FS)) / FS)
+    measured = speed_from_tacho(tacho_pulses(rate, ppr), FS, pulses_per_rev=ppr)
+    inside = slice(int(0.3 * FS), -int(0.3 * FS))  # between the first and the last pulse
+    # Edges are known to a sample at best: 0.5 sample of a 227-sample pulse period at 4 ppr.
+    assert np.max(np.abs(measured[inside] / rate[inside] - 1.0)) < (2e-3 if ppr == 1 else 1e-2)
+    assert measured.shape == rate.shape
+
+
+def test_speed_from_tacho_refuses_too_few_pulses():
+    with pytest.raises(ValueError, match=r"holds 1 rising edge\(s\) .*need at least 3"):
+        speed_from_tacho(tacho_pulses(np.full(int(0.25 * FS), 6.0)), FS)
+    with pytest.raises(ValueError, match="tacho is constant"):
+        speed_from_tacho(np.zeros(1000), FS)
+    with pytest.raises(ValueError, match="pulses_per_rev"):
+        speed_from_tacho(tacho_pulses(ramp()), FS, pulses_per_rev=0)
+
+
+def test_estimate_speed_finds_the_ridge_with_confidence():
+    rate = ramp()
+    est = estimate_speed(bearing_record("outer", rate), FS, 5.0, 40.0)
+    inside = slice(int(1.0 * FS), -int(1.0 * FS))
+    assert np.max(np.abs(est.shaft_hz[inside] / rate[inside] - 1.0)) < 0.01
+    assert est.confidence > 0.9
+    noise = estimate_speed(np.random.default_rng(3).standard_normal(rate.size), FS, 5.0, 40.0)
+    assert noise.confidence < 0.2
+
+
+def test_estimate_speed_validates_its_range():
+    x = np.random.default_rng(0).standard_normal(int(FS))
+    with pytest.raises(ValueError, match="f_min .* must be below f_max"):
+        estimate_speed(x, FS, 40.0, 5.0)
+    with pytest.raises(ValueError, match="below fs/2"):
+        estimate_speed(x, FS, 5.0, 2000.0)
+
+
+# ------------------------------------------------------------------------- order tracking
+def test_order_track_turns_a_chirping_order_into_a_line_and_stops_aliasing():
+    rate = ramp(4.0, 5.0, 15.0)
+    theta = shaft_angle(rate, FS)
+    # Order 3 (kept) and order 50 (above the angular Nyquist of 64 samples per rev: 32).
+    x = np.cos(2 * np.pi * 3.0 * theta) + np.cos(2 * np.pi * 50.0 * theta)
+    tracked = order_track(x, FS, rate, samples_per_rev=64)
+    spectrum = np.abs(np.fft.rfft(tracked.x * np.hanning(tracked.x.size)))
+    orders = np.fft.rfftfreq(tracked.x.size, 1.0 / tracked.samples_per_rev)
+    assert orders[np.argmax(spectrum)] == pytest.approx(3.0, abs=0.02)
+    # Order 50 would fold to 64 - 50 = 14: the anti-aliasing filter removed it.
+    folded = spectrum[np.abs(orders - 14.0) < 0.5].max()
+    assert folded < 1e-3 * spectrum.max()
+    assert tracked.angle[-1] == pytest.approx(theta[-1], abs=1.0 / 64)
+    assert tracked.cutoff_order == pytest.approx(0.4 * 64)
+
+
+def test_order_track_two_channels_along_axis():
+    rate = ramp(4.0, 5.0, 15.0)
+    theta = shaft_angle(rate, FS)
+    pair = np.stack([np.cos(2 * np.pi * 3.0 * theta), np.sin(2 * np.pi * 5.0 * theta)])
+    tracked = order_track(pair.T, FS, rate, samples_per_rev=64, axis=0)
+    single = order_track(pair[1], FS, rate, samples_per_rev=64)
+    np.testing.assert_allclose(tracked.x[:, 1], single.x, atol=1e-12)
+
+
+def test_order_track_refuses_a_profile_of_the_wrong_length():
+    with pytest.raises(ValueError, match="holds 10 rates but the record 1000 samples"):
+        order_track(np.zeros(1000), FS, np.ones(10), 64)
+    with pytest.raises(ValueError, match="finite and positive"):
+        order_track(np.zeros(1000), FS, np.r_[np.ones(999), -1.0], 64)
+
+
+# --------------------------------------------------------------- diagnosis at varying speed
+@pytest.fixture(scope="module", params=["outer", "inner", "ball"])
+def varying(request):
+    rate = ramp()
+    return request.param, rate, bearing_record(request.param, rate)
+
+
+def test_fixed_speed_verdict_fails_at_varying_speed(varying):
+    fault, rate, x = varying
+    d = diagnose(x, FS, GEOMETRY, float(rate.mean()))
+    assert d.fault != fault and d.domain == "time"
+
+
+def test_order_domain_names_the_fault(varying):
+    fault, rate, x = varying
+    d = diagnose(x, FS, GEOMETRY, rate)
+    assert d.domain == "order" and d.fault == fault
+    expected = {"outer": ORDERS.bpfo, "inner": ORDERS.bpfi, "ball": 2.0 * ORDERS.bsf}[fault]
+    assert d.families[fault].found_hz == pytest.approx(expected, rel=0.01)  # an order
+    assert d.frequencies.shaft == 1.0 and d.samples_per_rev == pytest.approx(FS / 10.0, 1e-3)
+
+
+def test_order_domain_from_tacho_and_from_the_vibration(varying):
+    fault, rate, x = varying
+    from_tacho = speed_from_tacho(tacho_pulses(rate), FS)
+    assert diagnose(x, FS, GEOMETRY, from_tacho).fault == fault
+    estimated = estimate_speed(x, FS, 5.0, 40.0)
+    assert diagnose(x, FS, GEOMETRY, estimated.shaft_hz).fault == fault
+
+
+def test_noise_at_varying_speed_is_healthy():
+    rate = ramp()
+    x = np.random.default_rng(9).standard_normal(rate.size)
+    theta = shaft_angle(rate, FS)
+    x += sum(2.0 / m * np.cos(2 * np.pi * m * theta) for m in range(1, 7))
+    assert diagnose(x, FS, GEOMETRY, rate).fault == "none"
+
+
+def test_steady_profile_is_diagnosed_in_time():
+    rate = np.full(int(3 * FS), 29.95)
+    x = np.random.default_rng(2).standard_normal(rate.size)
+    assert diagnose(x, FS, GEOMETRY, rate).domain == "time"
+
+
+def test_bad_speed_profiles():
+    x = np.random.default_rng(0).standard_normal(int(2 * FS))
+    with pytest.raises(ValueError, match="holds 5 rates"):
+        diagnose(x, FS, GEOMETRY, np.ones(5))
+    with pytest.raises(ValueError, match="covers .* shaft revolutions"):
+        diagnose(x, FS, GEOMETRY, np.linspace(0.5, 2.0, x.size))
+
+
+# ---------------------------------------------------------------------------- command line
+@pytest.fixture(scope="module")
+def varying_files(tmp_path_factory):
+    """An outer-race record at a 10 -> 25 Hz ramp with its tachometer beside it (CSV, fs
+    given), and the speed profile as a coarse table of time_s and rpm."""
+    folder = tmp_path_factory.mktemp("varying")
+    rate = ramp()
+    record = folder / "ramp.csv"
+    table = np.column_stack([bearing_record("outer", rate), tacho_pulses(rate)])
+    np.savetxt(record, table, delimiter=",", header="accel,tacho", comments="", fmt="%.7g")
+    times = np.arange(0.0, 6.01, 0.25)
+    profile = folder / "profile.csv"
+    np.savetxt(profile, np.column_stack([times, 60.0 * (10.0 + 2.5 * times)]), delimiter=",",
+               header="time_s,rpm", comments="")  # fmt: skip
+    return record, profile
+
+
+def _analyze(record, *extra):
+    from diagnostics.cli import main
+
+    return main(["analyze", str(record), "--fs", str(FS), "--channel", "accel",
+                 "--bearing", "n=9,d=7.94mm,D=39.04mm", *extra])  # fmt: skip
+
+
+@pytest.mark.parametrize("how", ["tacho", "profile"])
+def test_cli_varying_speed(varying_files, tmp_path, capsys, how):
+    import json
+
+    record, profile = varying_files
+    source = (
+        ["--tacho", "tacho", "--ppr", "1"] if how == "tacho" else ["--speed-profile", str(profile)]
+    )
+    assert _analyze(record, *source, "--out", str(tmp_path / how)) == 0
+    out = capsys.readouterr().out
+    assert "order domain" in out and "verdict: outer fault" in out
+    summary = json.loads((tmp_path / how / "summary.json").read_text())
+    assert summary["domain"] == "order" and summary["verdict"] == "outer"
+    assert summary["speed"]["min_rpm"] == pytest.approx(600.0, rel=0.03)  # held before 1st pulse
+    assert summary["speed"]["max_rpm"] == pytest.approx(1500.0, rel=0.01)
+    assert summary["fault_orders"]["bpfo_hz"] == pytest.approx(ORDERS.bpfo)
+    # The same record at its mean speed, as if steady: no fault is seen.
+    assert _analyze(record, "--rpm", "1050", "--out", str(tmp_path / "steady")) == 0
+    assert "verdict: no bearing fault found" in capsys.readouterr().out
+
+
+@pytest.mark.parametrize(
+    ("extra", "message"),
+    [
+        (["--tacho", "rpm_pulses"], r"--tacho rpm_pulses: .*no channel 'rpm_pulses'"),
+        (["--tacho", "tacho", "--rpm", "900"], r"one speed source, not --rpm and --tacho"),
+        (["--tacho", "tacho", "--ppr", "0"], r"--ppr must be a positive number"),
+        (["--speed-profile", "absent.csv"], r"--speed-profile: file not found: absent.csv"),
+    ],
+)
+def test_cli_varying_speed_bad_input(varying_files, tmp_path, capsys, extra, message):
+    import re
+
+    record, _ = varying_files
+    assert _analyze(record, *extra, "--out", str(tmp_path / "x")) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and re.search(message, err[0]), err
