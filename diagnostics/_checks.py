@@ -70,6 +70,59 @@ def check_signal(x, fs: float, name: str = "x", min_length: int = 2) -> np.ndarr
     return arr
 
 
+def check_signals(x, fs: float, axis: int = -1, name: str = "x", min_length: int = 2) -> np.ndarray:
+    """Return ``x`` as a float64 array with its time axis last, after validating it.
+
+    The multi-channel counterpart of :func:`check_signal`, for functions that take
+    ``axis``: any number of dimensions, samples along ``axis``, every other axis a channel.
+    As before ``axis`` existed, a column vector (shape (n, 1)) with the default ``axis=-1``
+    is one record of n samples.
+
+    Returns
+    -------
+    numpy.ndarray
+        The data with ``axis`` moved to the end (1-D for a single record). Use
+        ``numpy.moveaxis(result, -1, axis)`` to put an output's time axis back.
+
+    Raises
+    ------
+    ValueError
+        If ``x`` is empty or not real and numeric, ``axis`` is out of range, the time axis
+        is shorter than ``min_length``, ``x`` holds NaN or inf, or ``fs`` is invalid.
+    """
+    check_fs(fs)
+    try:
+        arr = np.asarray(x)
+    except Exception as exc:  # ragged lists and the like
+        raise ValueError(f"{name} must be a numeric array ({exc})") from None
+    if arr.dtype.kind == "c":
+        raise ValueError(f"{name} must be real-valued, got a complex array")
+    if arr.dtype.kind not in "biuf":
+        raise ValueError(f"{name} must be a numeric array, got dtype {arr.dtype}")
+    if arr.ndim == 0 or arr.size == 0:
+        raise ValueError(f"{name} is empty")
+    if isinstance(axis, bool) or not isinstance(axis, int | np.integer):
+        raise ValueError(f"axis must be an integer, got {axis!r}")
+    if not -arr.ndim <= axis < arr.ndim:
+        raise ValueError(f"axis {axis} is out of range for {name} of shape {arr.shape}")
+    if arr.ndim == 2 and axis == -1 and arr.shape[1] == 1:
+        arr = arr[:, 0]
+    arr = np.moveaxis(arr, axis, -1) if arr.ndim > 1 else arr
+    if arr.shape[-1] < min_length:
+        raise ValueError(
+            f"{name} is too short for this request: {arr.shape[-1]} samples along axis, need "
+            f"at least {min_length}"
+        )
+    arr = np.ascontiguousarray(arr, dtype=np.float64)
+    finite = np.isfinite(arr)
+    if not finite.all():
+        bad = [int(i) for i in np.unravel_index(int(np.argmin(finite)), arr.shape)]
+        channel = ", ".join(map(str, bad[:-1]))
+        where = f"sample {bad[-1]}" + (f" of channel {channel}" if arr.ndim > 1 else "")
+        raise ValueError(f"{name} holds NaN or inf (first at {where})")
+    return arr
+
+
 def check_varying(x: np.ndarray, name: str = "x") -> np.ndarray:
     """Return ``x`` after checking that it varies along its last axis.
 

@@ -10,53 +10,66 @@ from __future__ import annotations
 import numpy as np
 from scipy import signal
 
-from diagnostics._checks import check_signal
+from diagnostics._checks import check_signals
 from diagnostics.filters import bandpass_filter
 
 
-def _band_limited(x, fs: float, band) -> np.ndarray:
+def _band_limited(x, fs: float, band, axis: int) -> np.ndarray:
+    """The signal (band-passed when a band is given) with its time axis last."""
+    data = check_signals(x, fs, axis)
     if band is None:
-        return check_signal(x, fs)
+        return data
     try:
         f_lo, f_hi = band
     except (TypeError, ValueError):
         raise ValueError(f"band must be a pair (f_lo, f_hi) in Hz, got {band!r}") from None
-    return bandpass_filter(x, fs, f_lo, f_hi)
+    return bandpass_filter(data, fs, f_lo, f_hi)
 
 
-def envelope(x, fs: float, band=None) -> np.ndarray:
+def envelope(x, fs: float, band=None, axis: int = -1) -> np.ndarray:
     """Hilbert envelope of ``x``, optionally after a zero-phase band-pass.
 
     Parameters
     ----------
     x : array_like
-        1-D signal.
+        Signal, samples along ``axis``.
     fs : float
         Sampling rate in Hz.
     band : tuple of float, optional
         ``(f_lo, f_hi)`` in Hz to band-pass first (Butterworth, 4th order, zero phase).
+    axis : int
+        Axis of ``x`` along which the samples run.
 
     Returns
     -------
     numpy.ndarray
-        The modulus of the analytic signal, same length as ``x``.
+        The modulus of the analytic signal, same shape as ``x``.
 
     Raises
     ------
     ValueError
-        On an invalid signal, ``fs`` or band.
+        On an invalid signal, ``fs``, band or axis.
+
+    Examples
+    --------
+    >>> fs = 8000.0
+    >>> t = np.arange(8000) / fs
+    >>> am = (1.0 + 0.5 * np.cos(2 * np.pi * 10.0 * t)) * np.cos(2 * np.pi * 1000.0 * t)
+    >>> env = envelope(am, fs)
+    >>> round(float(env[1600]), 3), round(float(env[2000]), 3)     # 1 + 0.5 cos(...)
+    (1.5, 0.5)
     """
-    y = _band_limited(x, fs, band)
-    return np.abs(signal.hilbert(y))
+    y = np.abs(signal.hilbert(_band_limited(x, fs, band, axis), axis=-1))
+    return y if y.ndim == 1 else np.moveaxis(y, -1, axis)
 
 
-def envelope_spectrum(x, fs: float, band=None, squared: bool = True):
+def envelope_spectrum(x, fs: float, band=None, squared: bool = True, axis: int = -1):
     """One-sided amplitude spectrum of the (squared) envelope.
 
     Parameters
     ----------
     x : array_like
-        1-D signal.
+        Signal, samples along ``axis``.
     fs : float
         Sampling rate in Hz.
     band : tuple of float, optional
@@ -64,6 +77,9 @@ def envelope_spectrum(x, fs: float, band=None, squared: bool = True):
     squared : bool
         Use the squared envelope (default, the squared envelope spectrum) rather than the
         envelope itself.
+    axis : int
+        Axis of ``x`` along which the samples run; the frequency axis of ``amplitude``
+        takes its place.
 
     Returns
     -------
@@ -76,15 +92,25 @@ def envelope_spectrum(x, fs: float, band=None, squared: bool = True):
     Raises
     ------
     ValueError
-        On an invalid signal, ``fs`` or band.
+        On an invalid signal, ``fs``, band or axis.
+
+    Examples
+    --------
+    >>> fs = 8000.0
+    >>> t = np.arange(8000) / fs
+    >>> am = (1.0 + 0.5 * np.cos(2 * np.pi * 10.0 * t)) * np.cos(2 * np.pi * 1000.0 * t)
+    >>> f, amp = envelope_spectrum(am, fs, squared=False)
+    >>> float(f[np.argmax(amp)]), round(float(amp.max()), 3)
+    (10.0, 0.5)
     """
-    env = envelope(x, fs, band)
+    env = envelope(x, fs, band, axis=axis)
+    env = np.moveaxis(env, axis, -1) if env.ndim > 1 else env
     if squared:
         env = env**2
-    env = env - env.mean()
-    n = env.size
-    amplitude = np.abs(np.fft.rfft(env)) / n
+    env = env - env.mean(axis=-1, keepdims=True)
+    n = env.shape[-1]
+    amplitude = np.abs(np.fft.rfft(env, axis=-1)) / n
     # One-sided: every bin except DC (and Nyquist for even n) carries half the power.
-    amplitude[1 : (n + 1) // 2] *= 2.0
+    amplitude[..., 1 : (n + 1) // 2] *= 2.0
     f = np.fft.rfftfreq(n, d=1.0 / fs)
-    return f, amplitude
+    return f, (amplitude if amplitude.ndim == 1 else np.moveaxis(amplitude, -1, axis))

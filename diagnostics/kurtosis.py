@@ -20,7 +20,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy import signal, stats
 
-from diagnostics._checks import check_positive_int, check_signal
+from diagnostics._checks import check_positive_int, check_signal, check_signals
 
 _EPS = np.finfo(float).eps
 # Antoni's generating filters: a 16th-order fir1 half-band low-pass (cut-off 0.4 of Nyquist)
@@ -359,7 +359,7 @@ def sk_threshold(n_frames: int, p: float = 0.01) -> float:
     return float(stats.norm.isf(p) * 2.0 / np.sqrt(n_frames))
 
 
-def spectral_kurtosis(x, fs: float, nw: int = 256) -> SpectralKurtosis:
+def spectral_kurtosis(x, fs: float, nw: int = 256, axis: int = -1) -> SpectralKurtosis:
     """Spectral kurtosis by the STFT estimator of Antoni (2006).
 
     ``SK(f) = <|X(t, f)|^4> / <|X(t, f)|^2>^2 - 2`` over the STFT frames (Hann window of
@@ -371,11 +371,14 @@ def spectral_kurtosis(x, fs: float, nw: int = 256) -> SpectralKurtosis:
     Parameters
     ----------
     x : array_like
-        1-D signal; at least ``2 * nw`` samples.
+        Signal, samples along ``axis``; at least ``2 * nw`` samples.
     fs : float
         Sampling rate in Hz.
     nw : int
         Window length in samples (frequency resolution fs/nw).
+    axis : int
+        Axis of ``x`` along which the samples run; the frequency axis of ``sk`` takes its
+        place.
 
     Returns
     -------
@@ -385,21 +388,31 @@ def spectral_kurtosis(x, fs: float, nw: int = 256) -> SpectralKurtosis:
     Raises
     ------
     ValueError
-        On an invalid signal or ``fs``, or ``nw`` not an integer >= 4 or too long for ``x``.
+        On an invalid signal, ``fs`` or axis, or ``nw`` not an integer >= 4 or too long for
+        ``x``.
+
+    Examples
+    --------
+    >>> fs = 8000.0
+    >>> tone = np.cos(2 * np.pi * 1000.0 * np.arange(16000) / fs)
+    >>> noise = np.random.default_rng(0).standard_normal(16000)
+    >>> f, sk = spectral_kurtosis(np.stack([tone, noise]), fs, nw=64)
+    >>> round(float(sk[0, f == 1000.0][0]), 2), bool(abs(sk[1, f == 1000.0][0]) < 0.3)
+    (-1.0, True)
     """
     nw = check_positive_int(nw, "nw", minimum=4)
-    x = check_signal(x, fs, min_length=2 * nw)
+    x = check_signals(x, fs, axis, min_length=2 * nw)
     hop = nw // 2
-    frames = np.lib.stride_tricks.sliding_window_view(x, nw)[::hop]
+    frames = np.lib.stride_tricks.sliding_window_view(x, nw, axis=-1)[..., ::hop, :]
     window = signal.get_window("hann", nw)
-    spectra = np.fft.rfft(frames * window, axis=1)
+    spectra = np.fft.rfft(frames * window, axis=-1)
     power = spectra.real**2 + spectra.imag**2
-    mean_power = power.mean(axis=0)
+    mean_power = power.mean(axis=-2)
     with np.errstate(divide="ignore", invalid="ignore"):
-        ratio = (power**2).mean(axis=0) / mean_power**2
+        ratio = (power**2).mean(axis=-2) / mean_power**2
     sk = np.where(mean_power > 0, ratio - 2.0, 0.0)
-    sk[0] = 0.0
+    sk[..., 0] = 0.0
     if nw % 2 == 0:
-        sk[-1] = 0.0
+        sk[..., -1] = 0.0
     f = np.fft.rfftfreq(nw, d=1.0 / fs)
-    return SpectralKurtosis(f, sk, frames.shape[0])
+    return SpectralKurtosis(f, sk if sk.ndim == 1 else np.moveaxis(sk, -1, axis), frames.shape[-2])

@@ -7,20 +7,27 @@ import math
 import numpy as np
 from scipy import signal
 
-from diagnostics._checks import check_fs, check_positive, check_positive_int, check_signal
+from diagnostics._checks import check_fs, check_positive, check_positive_int, check_signals
 
 # IEC 61260-1 base-ten band ratio: centres 1000 * 10**(k/10), edges at centre * 10**(+-1/20).
 _OCTAVE_RATIO_EXPONENT = 0.1
 _EDGE_EXPONENT = 0.05
 
 
-def stft(x, fs: float, nperseg: int = 256, noverlap: int | None = None, window: str = "hann"):
+def stft(
+    x,
+    fs: float,
+    nperseg: int = 256,
+    noverlap: int | None = None,
+    window: str = "hann",
+    axis: int = -1,
+):
     """Short-time Fourier transform, frames taken from the signal only (no edge padding).
 
     Parameters
     ----------
     x : array_like
-        1-D signal.
+        Signal, samples along ``axis``.
     fs : float
         Sampling rate in Hz.
     nperseg : int
@@ -29,6 +36,8 @@ def stft(x, fs: float, nperseg: int = 256, noverlap: int | None = None, window: 
         Overlap between frames in samples; ``nperseg // 2`` when omitted.
     window : str
         Window name understood by ``scipy.signal.get_window``.
+    axis : int
+        Axis of ``x`` along which the samples run.
 
     Returns
     -------
@@ -37,17 +46,27 @@ def stft(x, fs: float, nperseg: int = 256, noverlap: int | None = None, window: 
     t : numpy.ndarray
         Frame centres in seconds.
     Z : numpy.ndarray
-        Complex STFT, shape ``(len(f), len(t))``, scaled as scipy does (a sinusoid of
-        amplitude A reads A/2 at its bin).
+        Complex STFT, shape ``(len(f), len(t))`` for a 1-D ``x``; for more dimensions the
+        other axes of ``x`` (channels) first, then frequency and time, as
+        ``scipy.signal.stft`` gives them. Scaled as scipy does (a sinusoid of amplitude A
+        reads A/2 at its bin).
 
     Raises
     ------
     ValueError
-        On an invalid signal or ``fs``, a frame longer than the signal, or an overlap not in
-        0..nperseg-1.
+        On an invalid signal, ``fs`` or axis, a frame longer than the signal, or an overlap
+        not in 0..nperseg-1.
+
+    Examples
+    --------
+    >>> fs = 1000.0
+    >>> x = np.cos(2 * np.pi * 125.0 * np.arange(1024) / fs)
+    >>> f, t, Z = stft(np.stack([x, 3 * x]), fs, nperseg=64)
+    >>> Z.shape, float(f[np.argmax(np.abs(Z[1, :, 5]))]), round(float(np.abs(Z[1, 8, 5])), 2)
+    ((2, 33, 31), 125.0, 1.5)
     """
     nperseg = check_positive_int(nperseg, "nperseg", minimum=2)
-    x = check_signal(x, fs, min_length=nperseg)
+    x = check_signals(x, fs, axis, min_length=nperseg)
     if noverlap is None:
         noverlap = nperseg // 2
     noverlap = check_positive_int(noverlap, "noverlap", minimum=0)
@@ -65,20 +84,29 @@ def stft(x, fs: float, nperseg: int = 256, noverlap: int | None = None, window: 
         noverlap=noverlap,
         boundary=None,
         padded=False,
+        axis=-1,
     )
 
 
-def psd(x, fs: float, nperseg: int = 4096):
+def _frequency_axis_back(y: np.ndarray, axis: int) -> np.ndarray:
+    """Put a result's last (frequency) axis where the time axis ``axis`` was."""
+    return y if y.ndim == 1 else np.moveaxis(y, -1, axis)
+
+
+def psd(x, fs: float, nperseg: int = 4096, axis: int = -1):
     """Power spectral density by Welch's method (Hann window, 50 % overlap).
 
     Parameters
     ----------
     x : array_like
-        1-D signal.
+        Signal, samples along ``axis``.
     fs : float
         Sampling rate in Hz.
     nperseg : int
         Segment length in samples; must not exceed the signal length.
+    axis : int
+        Axis of ``x`` along which the samples run; the frequency axis of ``Pxx`` takes its
+        place.
 
     Returns
     -------
@@ -90,11 +118,19 @@ def psd(x, fs: float, nperseg: int = 4096):
     Raises
     ------
     ValueError
-        On an invalid signal or ``fs``, or a segment longer than the signal.
+        On an invalid signal, ``fs`` or axis, or a segment longer than the signal.
+
+    Examples
+    --------
+    >>> x = np.random.default_rng(0).standard_normal((2, 48000)) * [[1.0], [2.0]]
+    >>> f, p = psd(x, 48000.0, nperseg=1024)
+    >>> np.round(p.sum(axis=-1) * f[1], 1)             # mean squares 1 and 4
+    array([1., 4.])
     """
     nperseg = check_positive_int(nperseg, "nperseg", minimum=2)
-    x = check_signal(x, fs, min_length=nperseg)
-    return signal.welch(x, fs=fs, window="hann", nperseg=nperseg, scaling="density")
+    data = check_signals(x, fs, axis, min_length=nperseg)
+    f, p = signal.welch(data, fs=fs, window="hann", nperseg=nperseg, scaling="density", axis=-1)
+    return f, _frequency_axis_back(p, axis)
 
 
 def third_octave_centres(f_min: float, f_max: float) -> np.ndarray:
@@ -121,7 +157,14 @@ def third_octave_centres(f_min: float, f_max: float) -> np.ndarray:
     return 1000.0 * 10.0 ** (_OCTAVE_RATIO_EXPONENT * k)
 
 
-def third_octave(x, fs: float, f_min: float = 20.0, f_max: float | None = None, ref: float = 1.0):
+def third_octave(
+    x,
+    fs: float,
+    f_min: float = 20.0,
+    f_max: float | None = None,
+    ref: float = 1.0,
+    axis: int = -1,
+):
     """One-third-octave band levels (IEC 61260-1 base-ten bands) from the signal's spectrum.
 
     The power of each band is the sum of the periodogram bins inside its edges
@@ -131,7 +174,7 @@ def third_octave(x, fs: float, f_min: float = 20.0, f_max: float | None = None, 
     Parameters
     ----------
     x : array_like
-        1-D signal.
+        Signal, samples along ``axis``.
     fs : float
         Sampling rate in Hz.
     f_min : float
@@ -141,6 +184,9 @@ def third_octave(x, fs: float, f_min: float = 20.0, f_max: float | None = None, 
         dropped, since the spectrum ends there.
     ref : float
         Reference value: levels are ``10 log10(power / ref**2)`` dB.
+    axis : int
+        Axis of ``x`` along which the samples run; the band axis of ``level_db`` takes its
+        place.
 
     Returns
     -------
@@ -165,7 +211,7 @@ def third_octave(x, fs: float, f_min: float = 20.0, f_max: float | None = None, 
     ([794.3, 1000.0, 1258.9], -3.01)
     """
     fs = check_fs(fs)
-    x = check_signal(x, fs, min_length=2)
+    x = check_signals(x, fs, axis, min_length=2)
     ref = check_positive(ref, "ref")
     nyquist = fs / 2.0
     f_max = nyquist if f_max is None else check_positive(f_max, "f_max")
@@ -180,11 +226,11 @@ def third_octave(x, fs: float, f_min: float = 20.0, f_max: float | None = None, 
             f"no complete one-third-octave band between f_min = {f_min:g} Hz and fs/2 = "
             f"{nyquist:g} Hz"
         )
-    _check_band_resolution(x.size, fs, fc)
+    _check_band_resolution(x.shape[-1], fs, fc)
     band_power = _band_powers(x, fs, fc)
     with np.errstate(divide="ignore"):
         level_db = 10.0 * np.log10(band_power / ref**2)
-    return fc, level_db
+    return fc, _frequency_axis_back(level_db, axis)
 
 
 def _check_band_resolution(n: int, fs: float, fc: np.ndarray) -> None:
@@ -204,15 +250,16 @@ def _check_band_resolution(n: int, fs: float, fc: np.ndarray) -> None:
 
 
 def _band_powers(x: np.ndarray, fs: float, fc: np.ndarray) -> np.ndarray:
-    """Mean-square power of ``x`` inside each band ``fc * 10**(+-0.05)``."""
-    n = x.size
-    spectrum = np.fft.rfft(x)
+    """Mean-square power of ``x`` (last axis) inside each band ``fc * 10**(+-0.05)``."""
+    n = x.shape[-1]
+    spectrum = np.fft.rfft(x, axis=-1)
     # One-sided power per bin, normalised so that the bins sum to mean(x**2).
     power = np.abs(spectrum) ** 2 / n**2
-    power[1 : (n + 1) // 2] *= 2.0
+    power[..., 1 : (n + 1) // 2] *= 2.0
     f = np.fft.rfftfreq(n, d=1.0 / fs)
     edges = np.append(fc * 10.0**-_EDGE_EXPONENT, fc[-1] * 10.0**_EDGE_EXPONENT)
-    # Half-open bins [lo, hi): each bin lands in exactly one band.
-    index = np.searchsorted(edges, f, side="right") - 1
-    inside = (index >= 0) & (index < fc.size)
-    return np.bincount(index[inside], weights=power[inside], minlength=fc.size)
+    # Half-open bins [lo, hi): each bin lands in exactly one band; bins are sorted, so a
+    # band's power is a difference of the running sum at its first and last bins.
+    first = np.searchsorted(f, edges, side="left")
+    running = np.concatenate([np.zeros(power.shape[:-1] + (1,)), np.cumsum(power, axis=-1)], -1)
+    return running[..., first[1:]] - running[..., first[:-1]]

@@ -28,6 +28,7 @@ from diagnostics._checks import (
     check_positive,
     check_positive_int,
     check_signal,
+    check_signals,
     check_varying,
 )
 
@@ -419,11 +420,7 @@ def order_track(x, fs: float, shaft_hz, samples_per_rev: float, *, axis: int = -
     3.0
     """
     fs = check_positive(fs, "fs", unit=" in Hz")
-    data = np.moveaxis(np.asarray(x, dtype=np.float64), axis, -1)
-    if data.ndim == 0 or data.shape[-1] < 2:
-        raise ValueError("x must hold at least 2 samples along axis")
-    if not np.all(np.isfinite(data)):
-        raise ValueError("x holds NaN or inf")
+    data = check_signals(x, fs, axis)
     n = data.shape[-1]
     rate = np.asarray(shaft_hz, dtype=np.float64)
     if rate.ndim == 0:
@@ -444,7 +441,8 @@ def order_track(x, fs: float, shaft_hz, samples_per_rev: float, *, axis: int = -
     targets = np.arange(0.0, angle[-1], 1.0 / spr)
     times = np.interp(targets, angle, np.arange(n) / fs)
     spline = interpolate.make_interp_spline(angle, data, k=3, axis=-1)
-    resampled = np.moveaxis(spline(targets), -1, axis)
+    resampled = spline(targets)
+    resampled = resampled if resampled.ndim == 1 else np.moveaxis(resampled, -1, axis)
     # Orders kept everywhere in the record: the filter's, or the band the sampling holds.
     cutoff_order = min(0.4 * spr, 0.5 * fs / float(rate.max()))
     return OrderTrack(resampled, spr, targets, times, cutoff_order)
