@@ -43,30 +43,24 @@ def check_signal(x, fs: float, name: str = "x", min_length: int = 2) -> np.ndarr
         If ``x`` is empty, not numeric, not 1-D, shorter than ``min_length``, holds NaN or
         inf, or ``fs`` is not a positive finite number.
     """
-    check_fs(fs)
-    try:
-        arr = np.asarray(x)
-    except Exception as exc:  # ragged lists and the like
-        raise ValueError(f"{name} must be a 1-D numeric array ({exc})") from None
-    if arr.dtype.kind == "c":
-        raise ValueError(f"{name} must be real-valued, got a complex array")
-    if arr.dtype.kind not in "biuf":
-        raise ValueError(f"{name} must be a 1-D numeric array, got dtype {arr.dtype}")
+    arr = _numeric_array(x, name, "1-D numeric array")
     if arr.ndim == 2 and 1 in arr.shape:
         arr = arr.reshape(-1)
     if arr.ndim != 1:
         raise ValueError(f"{name} must be 1-D, got an array of shape {arr.shape}")
-    if arr.size == 0:
-        raise ValueError(f"{name} is empty")
-    if arr.size < min_length:
-        raise ValueError(
-            f"{name} is too short for this request: {arr.size} samples, need at least {min_length}"
-        )
-    arr = np.ascontiguousarray(arr, dtype=np.float64)
-    finite = np.isfinite(arr)
-    if not finite.all():
-        bad = int(np.argmin(finite))
-        raise ValueError(f"{name} holds NaN or inf (first at sample {bad})")
+    return check_signals(arr, fs, name=name, min_length=min_length)
+
+
+def _numeric_array(x, name: str, what: str = "numeric array") -> np.ndarray:
+    """``x`` as an array, refused when it is not real and numeric."""
+    try:
+        arr = np.asarray(x)
+    except Exception as exc:  # ragged lists and the like
+        raise ValueError(f"{name} must be a {what} ({exc})") from None
+    if arr.dtype.kind == "c":
+        raise ValueError(f"{name} must be real-valued, got a complex array")
+    if arr.dtype.kind not in "biuf":
+        raise ValueError(f"{name} must be a {what}, got dtype {arr.dtype}")
     return arr
 
 
@@ -91,14 +85,7 @@ def check_signals(x, fs: float, axis: int = -1, name: str = "x", min_length: int
         is shorter than ``min_length``, ``x`` holds NaN or inf, or ``fs`` is invalid.
     """
     check_fs(fs)
-    try:
-        arr = np.asarray(x)
-    except Exception as exc:  # ragged lists and the like
-        raise ValueError(f"{name} must be a numeric array ({exc})") from None
-    if arr.dtype.kind == "c":
-        raise ValueError(f"{name} must be real-valued, got a complex array")
-    if arr.dtype.kind not in "biuf":
-        raise ValueError(f"{name} must be a numeric array, got dtype {arr.dtype}")
+    arr = _numeric_array(x, name)
     if arr.ndim == 0 or arr.size == 0:
         raise ValueError(f"{name} is empty")
     if isinstance(axis, bool) or not isinstance(axis, int | np.integer):
@@ -109,9 +96,10 @@ def check_signals(x, fs: float, axis: int = -1, name: str = "x", min_length: int
         arr = arr[:, 0]
     arr = np.moveaxis(arr, axis, -1) if arr.ndim > 1 else arr
     if arr.shape[-1] < min_length:
+        along = " along axis" if arr.ndim > 1 else ""
         raise ValueError(
-            f"{name} is too short for this request: {arr.shape[-1]} samples along axis, need "
-            f"at least {min_length}"
+            f"{name} is too short for this request: {arr.shape[-1]} samples{along}, need at "
+            f"least {min_length}"
         )
     arr = np.ascontiguousarray(arr, dtype=np.float64)
     finite = np.isfinite(arr)

@@ -96,11 +96,11 @@ def envelope_spectrum(x, fs: float, band=None, squared: bool = True, axis: int =
 
     Examples
     --------
-    >>> fs = 8000.0
-    >>> t = np.arange(8000) / fs
-    >>> am = (1.0 + 0.5 * np.cos(2 * np.pi * 10.0 * t)) * np.cos(2 * np.pi * 1000.0 * t)
-    >>> f, amp = envelope_spectrum(am, fs, squared=False)
-    >>> float(f[np.argmax(amp)]), round(float(amp.max()), 3)
+    >>> t = np.arange(4000) / 4000.0                   # 1 s at 4 kHz
+    >>> carrier = np.cos(2 * np.pi * 800.0 * t)
+    >>> f, amp = envelope_spectrum((1.0 + 0.5 * np.cos(2 * np.pi * 10.0 * t)) * carrier,
+    ...                            4000.0, squared=False)
+    >>> float(f[np.argmax(amp)]), round(float(amp.max()), 3)  # modulation 10 Hz, depth 0.5
     (10.0, 0.5)
     """
     env = envelope(x, fs, band, axis=axis)
