@@ -6,7 +6,8 @@ Two sets are known by their file names:
   6205 drive-end and a 6203 fan-end deep-groove ball bearing of a 2 hp motor; names as the
   public mirrors give them, e.g. ``12k_Drive_End_IR007_0_105.mat``,
   ``48k_Drive_End_OR007@6_0_135.mat``, ``12k_Fan_End_B014_2_288.mat``, ``normal_0_97.mat``,
-  or a folder ``12k Drive End .../IR007_0.mat``: fault ``IR`` (inner race), ``OR`` (outer
+  a folder ``12k Drive End .../IR007_0.mat``, or the data center's own record number
+  (``105.mat``, read from the published table of records): fault ``IR`` (inner race), ``OR`` (outer
   race, ``@6``/``@3``/``@12`` o'clock) or ``B`` (ball), size in mils, motor load in hp,
   record number. Channels ``XNNN_DE_time`` (drive end) and
   ``XNNN_FE_time`` (fan end), shaft speed ``XNNNRPM``. A fan-end fault is read on the
@@ -52,6 +53,61 @@ MFPT_BEARING = BearingGeometry(8, 0.235 * _INCH, 1.245 * _INCH)
 CWRU_NOMINAL_RPM = {0: 1797.0, 1: 1772.0, 2: 1750.0, 3: 1730.0}
 # The CWRU baseline (normal) records were sampled at 48 kHz.
 CWRU_NORMAL_FS = 48_000.0
+
+# Record numbers of the CWRU Bearing Data Center's own file names (``105.mat``): rate and
+# end, then the fault and its record numbers at motor loads 0, 1, 2, 3 ("n:load" where the
+# series does not start at load 0).
+_CWRU_NUMBERS = {
+    (12000.0, "drive"): {
+        "IR007": "105 106 107 108", "B007": "118 119 120 121", "OR007@6": "130 131 132 133",
+        "OR007@3": "144 145 146 147", "OR007@12": "156 158 159 160",
+        "IR014": "169 170 171 172", "B014": "185 186 187 188", "OR014@6": "197 198 199 200",
+        "IR021": "209 210 211 212", "B021": "222 223 224 225", "OR021@6": "234 235 236 237",
+        "OR021@3": "246 247 248 249", "OR021@12": "258 259 260 261",
+        "IR028": "3001 3002 3003 3004", "B028": "3005 3006 3007 3008",
+    },
+    (48000.0, "drive"): {
+        "IR007": "109 110 111 112", "B007": "122 123 124 125", "OR007@6": "135 136 137 138",
+        "OR007@3": "148 149 150 151", "OR007@12": "161 162 163 164",
+        "IR014": "174 175 176 177", "B014": "189 190 191 192", "OR014@6": "201 202 203 204",
+        "IR021": "213 214 215 217", "B021": "226 227 228 229", "OR021@6": "238 239 240 241",
+        "OR021@3": "250 251 252 253", "OR021@12": "262 263 264 265",
+    },
+    (12000.0, "fan"): {
+        "IR007": "278 279 280 281", "IR014": "274 275 276 277", "IR021": "270 271 272 273",
+        "B007": "282 283 284 285", "B014": "286 287 288 289", "B021": "290 291 292 293",
+        "OR007@6": "294 295 296 297", "OR007@3": "298 299 300 301",
+        "OR007@12": "302 305 306 307", "OR014@3": "310 309 311 312", "OR014@6": "313",
+        "OR021@6": "315", "OR021@3": "316:1 317:2 318:3",
+    },
+    (48000.0, "none"): {"normal": "97 98 99 100"},
+}  # fmt: skip
+
+
+def _number_labels() -> dict[int, RecordLabel]:
+    labels = {}
+    for (fs, end), series in _CWRU_NUMBERS.items():
+        for name, numbers in series.items():
+            fault = _CWRU_FAULT.match(name + "_0")
+            for load, item in enumerate(numbers.split()):
+                number, _, at = item.partition(":")
+                load_text = at or str(load)
+                if fault is None:
+                    labels[int(number)] = RecordLabel(
+                        "CWRU", "none", "drive", load=load_text, fs=fs
+                    )
+                    continue
+                labels[int(number)] = RecordLabel(
+                    "CWRU",
+                    _FAULTS[fault.group(1).lower()],
+                    end,
+                    size_in=int(fault.group(2)) / 1000.0,
+                    position=f"@{fault.group(3)}" if fault.group(3) else "",
+                    load=load_text,
+                    fs=fs,
+                )
+    return labels
+
 
 _CWRU_FAULT = re.compile(r"(?<![a-z])(ir|or|b)(\d{3})(?:@(\d{1,2}))?_(\d)(?!\d)", re.IGNORECASE)
 _CWRU_NORMAL = re.compile(r"(?<![a-z])normal(?:[ _-]?baseline)?(?:[ _-]+(\d))?", re.IGNORECASE)
@@ -128,6 +184,8 @@ def label_from_name(path) -> RecordLabel | None:
     'none'
     >>> label_from_name("mfpt/InnerRaceFault_vload_3.mat").fault
     'inner'
+    >>> label_from_name("317.mat")                  # the data center's own file name
+    RecordLabel(source='CWRU', fault='outer', end='fan', size_in=0.021, position='@3', load='2', fs=12000.0)
     >>> label_from_name("notes.mat") is None
     True
     """  # noqa: E501
@@ -159,7 +217,13 @@ def label_from_name(path) -> RecordLabel | None:
     normal = _last(_CWRU_NORMAL, name) or _last(_CWRU_NORMAL, text)
     if normal:
         return RecordLabel("CWRU", "none", "drive", load=normal.group(1) or "", fs=CWRU_NORMAL_FS)
+    number = re.fullmatch(r"x?0*(\d+)", Path(path).stem, re.IGNORECASE)
+    if number:  # the data center's own names: the record number alone
+        return _NUMBER_LABELS.get(int(number.group(1)))
     return None
+
+
+_NUMBER_LABELS = _number_labels()
 
 
 def _last(pattern: re.Pattern, text: str):

@@ -34,6 +34,12 @@ NAMES = {
     "mfpt/OuterRaceFault_vload_4.mat": ("MFPT", "outer", "-", None, "", "vload_4", None),
     "InnerRaceFault_vload_7.mat": ("MFPT", "inner", "-", None, "", "vload_7", None),
     "baseline_2.mat": ("MFPT", "none", "-", None, "", "2", None),
+    # The data center's own names: the record number, looked up in its published table.
+    "cwru/105.mat": ("CWRU", "inner", "drive", 0.007, "", "0", 12000.0),
+    "215.mat": ("CWRU", "inner", "drive", 0.021, "", "2", 48000.0),
+    "160.mat": ("CWRU", "outer", "drive", 0.007, "@12", "3", 12000.0),
+    "318.mat": ("CWRU", "outer", "fan", 0.021, "@3", "3", 12000.0),
+    "98.mat": ("CWRU", "none", "drive", None, "", "1", 48000.0),
 }  # fmt: skip
 
 
@@ -47,7 +53,7 @@ def test_labels_from_public_names(name):
     assert label.size_in == (pytest.approx(size) if size else None)
 
 
-@pytest.mark.parametrize("name", ["notes.mat", "run_7.mat", "X097_DE_time.csv"])
+@pytest.mark.parametrize("name", ["notes.mat", "run_7.mat", "X097_DE_time.csv", "157.mat"])
 def test_other_names_are_not_records(name):
     assert label_from_name(name) is None
 
