@@ -32,6 +32,7 @@ from diagnostics.filters import bandpass_filter, lowpass_filter, notch_filter
 from diagnostics.frequencies import BearingGeometry, FaultFrequencies, bearing_frequencies
 from diagnostics.io import Signal, read_signal, read_speed_profile
 from diagnostics.kurtosis import Kurtogram, kurtogram, sk_threshold, spectral_kurtosis
+from diagnostics.separation import Separation, discrete_random_separation
 from diagnostics.spectral import psd, stft, third_octave
 from diagnostics.speed import (
     OrderTrack,
@@ -50,12 +51,14 @@ __all__ = [
     "FaultFrequencies",
     "Kurtogram",
     "OrderTrack",
+    "Separation",
     "Signal",
     "SpeedEstimate",
     "bandpass_filter",
     "bearing_frequencies",
     "contact_speed",
     "diagnose",
+    "discrete_random_separation",
     "envelope",
     "envelope_spectrum",
     "estimate_defect_size",

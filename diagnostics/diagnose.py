@@ -9,15 +9,21 @@ Method (Randall and Antoni 2011; Smith and Randall 2015, the CWRU benchmark):
    fast kurtogram of the prewhitened signal among the bands wide enough to hold two
    harmonics of the fault frequencies and lying above the range the combs cover (below it,
    beats between deterministic low-frequency lines are no impacts). The evidence of the
-   stronger band is kept.
+   stronger band is kept. With ``use_drs`` a third: the kurtogram's band of the random part
+   left by discrete/random separation (Smith and Randall's third method); off by default,
+   since on the development records it made a ball-fault record (CWRU 118) read as an
+   outer-race fault through the ball-pass modulation healthy bearings also show.
 3. Squared envelope spectrum (SES) of each band, normalised by its local background: the
    running median over a window of a fraction of the fault frequencies, divided by ln 2. For
    a random (fault-free) signal each SES bin is then close to an exponential variable of unit
    mean, so a normalised value ``z`` has the tail probability ``exp(-z)``.
 4. Each fault family is a harmonic comb with one common fundamental searched within
    +-``slip`` of its kinematic value (rollers slip by 1-2 %, and a logged speed is not exact):
-   outer race k*BPFO, inner race k*BPFI, rolling element k*2*BSF. Shaft harmonics are masked
-   out, since they are present in every record.
+   outer race k*BPFO, inner race k*BPFI, rolling element k*2*BSF, and for the rolling
+   element also the cage-rate series k*FTF: a damaged ball goes round with the cage and
+   strikes only in the load zone, and where its strikes are too irregular to form lines at
+   2 BSF (its spin axis wanders) the bursts still repeat once per cage turn. Shaft harmonics
+   are masked out, since they are present in every record.
 5. Statistics. The p-value of a harmonic is at most ``W exp(-z)``, W being the number of
    bins its slip window spans (Bonferroni bound on the largest of W exponential bins). A
    family is detected when two of its harmonics are jointly significant: the two smallest
@@ -42,8 +48,11 @@ Method (Randall and Antoni 2011; Smith and Randall 2015, the CWRU benchmark):
    (the sum of the normalised values of its supporting harmonics, each close to -ln p of
    that line), counting only lines that no other detected family's comb explains: 2 BPFI is
    within 0.7 % of 3 BPFO on many bearings, and since BPFO + BPFI is n times the shaft rate
-   an outer-race fault with shaft-rate modulation has a line at exactly BPFI. Sidebands
-   (BPFI +- shaft rate, 2 BSF +- cage rate) are measured at the found lines and reported.
+   an outer-race fault with shaft-rate modulation has a line at exactly BPFI. A race or
+   spin comb also explains the first two shaft-rate sidebands of its lines (BPFO - 2 fr is
+   within 0.5 % of 4 FTF on the CWRU drive-end bearing: the cage series of an outer-race
+   record is explained by its BPFO comb, not the other way round). Sidebands (BPFI +- shaft
+   rate, 2 BSF +- cage rate) are measured at the found lines and reported.
 """
 
 from __future__ import annotations
@@ -59,6 +68,7 @@ from diagnostics._checks import check_positive, check_positive_int, check_signal
 from diagnostics.envelope import envelope
 from diagnostics.frequencies import BearingGeometry, FaultFrequencies, bearing_frequencies
 from diagnostics.kurtosis import kurtogram
+from diagnostics.separation import discrete_random_separation
 from diagnostics.speed import check_speed_profile, order_track, shaft_angle
 
 __all__ = [
@@ -135,6 +145,11 @@ class FamilyScore:
     n_sidebands_significant : int
         Sidebands whose p-value (a bin either side of the expected offset) is at most
         ``sqrt(alpha_pair)``.
+    resolution_hz : float
+        Bin spacing of the squared envelope spectrum.
+    comb : str
+        The comb tested: ``"BPFO"``, ``"BPFI"``, ``"2xBSF"``, or ``"FTF"`` for the
+        rolling-element family's second test, the cage-rate series.
     """
 
     family: str
@@ -155,11 +170,16 @@ class FamilyScore:
     sideband_z: np.ndarray = field(default_factory=lambda: np.zeros((2, 0)), repr=False)
     n_sidebands_significant: int = 0
     resolution_hz: float = 0.0
+    comb: str = ""
 
 
 @dataclass(frozen=True)
 class BandScore:
-    """One candidate demodulation band and the scores of every family in it."""
+    """One candidate demodulation band and the score of every comb in it.
+
+    ``families`` is keyed by comb: ``"BPFO"`` (outer race), ``"BPFI"`` (inner race),
+    ``"2xBSF"`` and ``"FTF"`` (rolling elements); ``FamilyScore.family`` names the family.
+    """
 
     name: str
     band: tuple[float, float]
@@ -275,6 +295,15 @@ def record_requirements(
     f_low = min(f0 for f0, _ in fundamentals.values())
     f_high = max(f0 for f0, _ in fundamentals.values()) * (1.0 + slip)
     return 2.0 * 2.0 * f_high / _USABLE_FRACTION, 20.0 / f_low + 2.0 * _TAPER_S
+
+
+def _random_part(x: np.ndarray, fs: float, shaft_hz: float) -> np.ndarray | None:
+    """Random part of the record by discrete/random separation, resolving a quarter of the
+    shaft rate; None for a record too short for it."""
+    nfft = int(2 ** math.ceil(math.log2(4.0 * fs / shaft_hz)))
+    if x.size < 9 * nfft:
+        return None
+    return discrete_random_separation(x, fs, nfft=nfft).random
 
 
 def _fast_length(n: int) -> int:
@@ -457,20 +486,53 @@ def _score_family(
     )
 
 
-def _unique_evidence(score: FamilyScore, others: list[FamilyScore]) -> float:
+def _unique_evidence(score: FamilyScore, others: list[FamilyScore], shaft_hz: float) -> float:
     """Evidence of ``score`` from significant lines that no other family's comb explains.
 
     Kinematics makes some lines common to two families: BPFO + BPFI is n times the shaft
     rate, so 2 BPFI lies within 1 % of 3 BPFO on many bearings, and an outer-race fault with
-    shaft-rate modulation has a line at exactly BPFI. A shared line is evidence for neither.
+    shaft-rate modulation has a line at exactly BPFI. A detected family explains its
+    harmonics; a race or spin comb also those above the ones it tested and their first two
+    shaft-rate sidebands (k f0 +- j fr, j <= 2: a fault modulated by the turning shaft).
+    With 9 balls and d/D = 0.2, BPFO - 2 fr falls within 0.5 % of 4 FTF, a line of the
+    cage-rate series: an outer-race fault explains it. A shared line is evidence for neither.
     """
     keep = score.z > score.threshold
     for other in others:
-        lines = other.found_hz * np.arange(1, 3 * other.z.size + 1)
+        # A race or spin comb explains its harmonics beyond those tested (3 BPFO is 2 BPFI)
+        # and their shaft sidebands; the cage-rate series only its own lines (n FTF is BPFO
+        # itself, and 4 FTF + 2 fr is BPFO again for 9 balls at d/D = 0.2).
+        cage = other.comb == "FTF"
+        reach = other.z.size if cage else 3 * other.z.size
+        offsets = np.zeros(1) if cage else shaft_hz * np.arange(-2, 3)
+        harmonics = other.found_hz * np.arange(1, reach + 1)
+        lines = (harmonics[:, None] + offsets[None, :]).ravel()
         tol = 2.0 * max(score.resolution_hz, other.resolution_hz)
         distance = np.min(np.abs(score.lines_hz[:, None] - lines[None, :]), axis=1)
         keep &= distance > tol
     return float(score.z[keep].sum())
+
+
+def _combs(
+    freqs: FaultFrequencies, fundamentals: dict[str, tuple[float, float]], duration_s: float
+) -> dict[str, tuple[str, float, float]]:
+    """Harmonic series tested: name -> (family, fundamental, sideband spacing).
+
+    One per family, and for the rolling elements a second one: the cage rate (FTF). A
+    damaged ball goes round with the cage and strikes only while it is in the load zone, so
+    its impacts come in bursts once per cage turn; where the strikes themselves are too
+    irregular to form lines at 2 x BSF (the ball's spin axis wanders), the squared envelope
+    still shows the cage-rate series (Randall and Antoni 2011). It is tested where the
+    record holds 20 cage periods.
+    """
+    combs = {
+        "BPFO": ("outer", *fundamentals["outer"]),
+        "BPFI": ("inner", *fundamentals["inner"]),
+        "2xBSF": ("ball", *fundamentals["ball"]),
+    }
+    if duration_s * freqs.ftf >= 20.0:
+        combs["FTF"] = ("ball", freqs.ftf, 0.0)
+    return combs
 
 
 def _family_fundamentals(freqs: FaultFrequencies) -> dict[str, tuple[float, float]]:
@@ -537,6 +599,7 @@ def diagnose(
     min_modulation: float = 0.05,
     nlevel: int = 7,
     use_kurtogram: bool = True,
+    use_drs: bool = False,
     samples_per_rev: float | None = None,
 ) -> Diagnosis:
     """Diagnose a rolling element bearing from one vibration record.
@@ -573,6 +636,9 @@ def diagnose(
         Depth of the fast kurtogram (reduced for a record too short for it).
     use_kurtogram : bool
         Add the kurtogram's best band to the whole prewhitened band.
+    use_drs : bool
+        Add the kurtogram's best band of the random part of the record after
+        discrete/random separation (:func:`diagnostics.separation.discrete_random_separation`).
     samples_per_rev : float, optional
         Angular sampling of the order domain; default ``fs / min(shaft_hz)``, which keeps the
         record's whole band at the slowest speed.
@@ -605,6 +671,7 @@ def diagnose(
         min_modulation=min_modulation,
         nlevel=nlevel,
         use_kurtogram=use_kurtogram,
+        use_drs=use_drs,
     )
     if np.ndim(shaft_hz) == 0:
         return _diagnose_steady(x, fs, geometry, shaft_hz, **options)
@@ -641,6 +708,7 @@ def _diagnose_steady(
     min_modulation: float,
     nlevel: int,
     use_kurtogram: bool,
+    use_drs: bool,
 ) -> Diagnosis:
     """:func:`diagnose` at one shaft rate (Hz, or 1 in the order domain)."""
     fs, shaft_hz = check_bearing_inputs(geometry, fs, shaft_hz)
@@ -670,53 +738,70 @@ def _diagnose_steady(
         )
 
     white = prewhiten(x, fs)
-    candidates: list[tuple[str, tuple[float, float], float]] = [
-        ("prewhitened", (0.0, fs / 2.0), 0.0)
+    candidates: list[tuple[str, tuple[float, float], float, np.ndarray]] = [
+        ("prewhitened", (0.0, fs / 2.0), 0.0, white)
     ]
     kg_white = None
     # The fast kurtogram needs 2**(nlevel + 7) samples; a short record gets fewer levels.
     levels = min(nlevel, int(math.log2(white.size)) - 7)
+    bw_min = 2.0 * f_high / _USABLE_FRACTION
+    # Demodulate above the fault frequencies' own range: below it the band holds the
+    # deterministic low-frequency vibration, whose beats are not impacts.
+    f_floor = (n_harmonics + 1) * f_high
     if use_kurtogram and levels >= 1:
-        bw_min = 2.0 * f_high / _USABLE_FRACTION
         kg_white = kurtogram(white, fs, nlevel=levels)
-        # Demodulate above the fault frequencies' own range: below it the band holds the
-        # deterministic low-frequency vibration, whose beats are not impacts.
-        f_floor = (n_harmonics + 1) * f_high
         found = kurtogram_band(kg_white, min_bandwidth_hz=bw_min, min_low_hz=f_floor)
         if found is not None:
-            candidates.append(("kurtogram", found[0], found[1]))
+            candidates.append(("kurtogram", found[0], found[1], white))
+    if use_drs and levels >= 1:
+        separated = _random_part(x, fs, freqs.shaft)
+        if separated is not None:
+            kg_random = kurtogram(separated, fs, nlevel=levels)
+            found = kurtogram_band(kg_random, min_bandwidth_hz=bw_min, min_low_hz=f_floor)
+            if found is not None:
+                candidates.append(("drs-kurtogram", found[0], found[1], separated))
 
-    n_tests = len(FAMILIES) * len(candidates)
+    combs = _combs(freqs, fundamentals, x.size / fs)
+    n_tests = len(combs) * len(candidates)
     pairs = math.comb(n_harmonics, 2)
     alpha_pair = alpha / (n_tests * pairs)
     f_max = (n_harmonics + 1) * f_high + freqs.shaft
     half_window = _BACKGROUND_FRACTION * f_low
 
     bands: list[BandScore] = []
-    for name, band, kurt in candidates:
-        f, z, m = normalised_envelope_spectrum(white, fs, _demod_band(band, fs), f_max, half_window)
+    for name, band, kurt, y in candidates:
+        f, z, m = normalised_envelope_spectrum(y, fs, _demod_band(band, fs), f_max, half_window)
         z_masked = np.where(_shaft_mask(f, freqs.shaft), 0.0, z)
         width = band[1] - band[0]
         scores: dict[str, FamilyScore | None] = {}
-        for family in FAMILIES:
-            f0, sb_hz = fundamentals[family]
+        for comb, (family, f0, sb_hz) in combs.items():
             n_harm = min(n_harmonics, int(_USABLE_FRACTION * width // (f0 * (1.0 + slip))))
             if n_harm < 2:
-                scores[family] = None
+                scores[comb] = None
                 continue
-            scores[family] = _score_family(
+            score = _score_family(
                 family, f, z_masked, m, f0, n_harm, slip, alpha_pair, min_modulation, band, sb_hz
             )
+            scores[comb] = replace(score, comb=comb)
         bands.append(BandScore(name, band, kurt, f, z, scores))
 
     best: dict[str, FamilyScore | None] = {}
     for family in FAMILIES:
-        options = [b.families[family] for b in bands if b.families[family] is not None]
+        # A family's evidence is its best comb in its best band.
+        options = [
+            b.families[comb]
+            for b in bands
+            for comb, (fam, _, _) in combs.items()
+            if fam == family and b.families[comb] is not None
+        ]
         best[family] = max(
             options, key=lambda s: (s.detected, s.evidence, s.near_miss), default=None
         )
     detected = [s for s in best.values() if s is not None and s.detected]
-    unique = {s.family: _unique_evidence(s, [o for o in detected if o is not s]) for s in detected}
+    unique = {
+        s.family: _unique_evidence(s, [o for o in detected if o is not s], freqs.shaft)
+        for s in detected
+    }
     scores_out = {fam: (best[fam].evidence if best[fam] is not None else 0.0) for fam in FAMILIES}
     if detected:
         # The verdict goes to the family whose own (unshared) lines carry most evidence.

@@ -9,6 +9,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 from scipy.io import savemat
+from test_diag_diagnose import fault_signal
 
 from diagnostics.benchmark import find_records, run_benchmark, summary_table
 from diagnostics.cli import main
@@ -74,17 +75,8 @@ def test_bearings_reproduce_the_published_defect_frequencies():
 
 def _impacts(fs: float, rate: float, seconds: float, seed: int) -> np.ndarray:
     """Resonance at 3 kHz struck at ``rate`` (1 % jitter) in unit noise."""
-    rng = np.random.default_rng(seed)
-    n = int(seconds * fs)
-    x = rng.standard_normal(n)
-    tail = np.arange(int(0.005 * fs)) / fs
-    ring = 4.0 * np.exp(-800.0 * tail) * np.sin(2 * np.pi * 3000.0 * tail)
-    t = 0.01
-    while t < seconds - 0.01:
-        i = int(t * fs)
-        x[i : i + ring.size] += ring[: n - i]
-        t += (1.0 + 0.01 * rng.standard_normal()) / rate
-    return x
+    return fault_signal(fs, rate, 3000.0, amplitude=4.0, duration_s=seconds, jitter=0.01,
+                        seed=seed)  # fmt: skip
 
 
 def _cwru_file(folder: Path, name: str, number: int, de, fe, rpm=None) -> Path:
@@ -178,3 +170,13 @@ def test_development_mfpt_and_baseline(development_results):
     swapped = [r for r in development_results if {r.expected, r.verdict} == {"inner", "outer"}]
     assert not swapped, [r.path.name for r in swapped]
     assert math.isfinite(sum(r.confidence for r in development_results))
+
+
+def test_development_cwru_counts_do_not_fall_back(development_results):
+    # Measured at the commit that added the cage-rate series (see README): a change that
+    # names fewer of these records than that is a regression.
+    assert _count(development_results, "CWRU 48k", "outer")[0] >= 6
+    assert _count(development_results, "CWRU 48k", "inner")[0] >= 2
+    assert _count(development_results, "CWRU 48k", "ball")[0] >= 1
+    assert _count(development_results, "CWRU 12k", "outer") == (1, 1)
+    assert _count(development_results, "CWRU 12k", "inner") == (1, 1)

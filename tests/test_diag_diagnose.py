@@ -218,3 +218,54 @@ def test_cwru_verdict_does_not_depend_on_fs(cwru_records):
     assert low.families["outer"].found_hz == pytest.approx(
         full.families["outer"].found_hz, rel=2e-3
     )
+
+
+# --- rolling elements: the cage-rate series ----------------------------------------------
+
+
+def gated_ball_impacts(fs: float, seconds: float, jitter: float, seed: int) -> np.ndarray:
+    """A damaged ball striking at 2 x BSF with a wandering spin axis (``jitter`` of random
+    spacing, so the lines at 2 BSF smear), only while it is in the load zone: a third of
+    each cage turn, once per FTF. Unit noise."""
+    rng = np.random.default_rng(seed)
+    n = int(seconds * fs)
+    x = rng.standard_normal(n)
+    tail = np.arange(int(0.004 * fs)) / fs
+    ring = 4.0 * np.exp(-900.0 * tail) * np.sin(2 * np.pi * 3500.0 * tail)
+    t = 0.01
+    while t < seconds - 0.01:
+        in_zone = np.mod(t * FREQS.ftf, 1.0) < 1.0 / 3.0
+        if in_zone:
+            i = int(t * fs)
+            x[i : i + ring.size] += ring[: n - i]
+        t += (1.0 + jitter * rng.standard_normal()) / (2.0 * FREQS.bsf)
+    return x
+
+
+def test_ball_fault_named_by_its_cage_rate_series_when_2bsf_lines_smear():
+    x = gated_ball_impacts(12000.0, 5.0, jitter=0.08, seed=3)
+    d = diagnose(x, 12000.0, GEOMETRY, SHAFT_HZ)
+    assert d.fault == "ball" and d.families["ball"].comb == "FTF"
+    assert d.families["ball"].found_hz == pytest.approx(FREQS.ftf, rel=0.02)
+    # The 2 x BSF comb alone sees nothing: without the cage series the verdict was 'none'.
+    assert not any(b.families["2xBSF"].detected for b in d.bands if b.families["2xBSF"])
+
+
+def test_outer_race_fault_with_shaft_modulation_stays_outer():
+    """BPFO - 2 fr is within 0.5 % of 4 FTF on this bearing: the sideband of an outer-race
+    fault modulated twice per shaft turn lands on the cage-rate series, which the BPFO
+    comb explains."""
+    x = fault_signal(12000.0, FREQS.bpfo, 3000.0, duration_s=5.0, mod_hz=2 * SHAFT_HZ,
+                     mod_depth=0.9, seed=4)  # fmt: skip
+    d = diagnose(x, 12000.0, GEOMETRY, SHAFT_HZ)
+    assert d.fault == "outer"
+    assert abs((FREQS.bpfo - 2 * SHAFT_HZ) / (4 * FREQS.ftf) - 1.0) < 0.006
+
+
+def test_discrete_random_separation_band_is_an_option():
+    x = fault_signal(12000.0, 1.01 * FREQS.bpfo, 3000.0, duration_s=3.0, seed=6)
+    x += 3.0 * np.sin(2 * np.pi * 7 * SHAFT_HZ * np.arange(x.size) / 12000.0)
+    d = diagnose(x, 12000.0, GEOMETRY, SHAFT_HZ, use_drs=True)
+    assert d.fault == "outer"
+    assert "drs-kurtogram" in [b.name for b in d.bands]
+    assert "drs-kurtogram" not in [b.name for b in diagnose(x, 12000.0, GEOMETRY, SHAFT_HZ).bands]
