@@ -1,8 +1,9 @@
 """Command line of ``diagnostics``: ``python -m diagnostics analyze|compare ...``.
 
 Each subcommand is a pair ``add_<name>_arguments(parser)`` / ``run_<name>(args) -> int``
-registered in ``COMMANDS``: ``analyze`` (one record) and ``compare`` (a simulated run
-folder against measured records, :mod:`diagnostics.compare`). Bad input
+registered in ``COMMANDS``: ``analyze`` (one record); ``compare`` only points to
+``python -m taichi_bearing compare``, which reads a simulated run folder and calls
+:mod:`diagnostics.compare`. Bad input
 is reported as one line on stderr with exit status 2, never a traceback.
 """
 
@@ -472,7 +473,7 @@ COMMANDS = {
         run_analyze,
     ),
     "compare": (
-        "measured against simulated: one pipeline, figures side by side, summary.json",
+        "moved: use python -m taichi_bearing compare RUN_DIR MEASURED_FILE ...",
         add_compare_arguments,
         run_compare,
     ),

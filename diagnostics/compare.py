@@ -1,16 +1,19 @@
-"""Measured against simulated: the same analysis on both records, drawn side by side.
+"""Two or more vibration records through one analysis, drawn side by side: typically a
+simulated record against measured ones.
 
-A simulated run folder (``histories.parquet`` + ``summary.json``, read here with pandas and
-json only: this package never imports taichi) and one or more measured records go through
-one pipeline:
+Each record is a :class:`Record`: the signal, its sampling rate, shaft speed and BPFO, and
+optionally the fault frequencies and the times of its defect events (a simulation knows
+them; ``python -m taichi_bearing compare`` reads them from a run folder). This module takes
+arrays only: it reads no simulation output. Every record goes through one pipeline:
 
 1. the fast kurtogram (levels from the record length) picks the demodulation band: the
    most impulsive band at least ten BPFO wide (room for the comb) above fs/16;
 2. the squared envelope spectrum in that band, normalised by its median between 0.5 and
    10.5 BPFO, so records in different units and at different levels compare;
 3. the one-third-octave spectrum, relative to the record's overall level;
-4. time traces and spectrograms around the defect events: the simulated run's re-stressing
-   times, the measured record's envelope bursts one BPFO apart.
+4. time traces and spectrograms around the defect events: the given event times (e.g. a
+   simulated run's re-stressing times) or, without them, the record's envelope bursts one
+   BPFO apart.
 
 When the speeds differ, the envelope spectra and the time axes are drawn in units of each
 record's own BPFO (orders of BPFO, passage periods), so the fault comb falls at 1, 2, 3 ...
@@ -20,7 +23,6 @@ one-third-octave spectra stay in Hz.
 
 from __future__ import annotations
 
-import json
 import math
 import os
 from dataclasses import dataclass, field
@@ -39,13 +41,13 @@ from diagnostics.spectral import stft, third_octave
 __all__ = [
     "Record",
     "Analysis",
-    "read_run_record",
-    "run_geometry",
     "measured_record",
     "analyse",
     "impact_times",
     "compare_figures",
+    "compare_records",
     "compare_summary",
+    "summary_lines",
 ]
 
 N_HARMONICS = 5
@@ -55,17 +57,41 @@ _COLOURS = ("tab:blue", "tab:red", "tab:green", "tab:purple", "tab:orange")
 
 @dataclass
 class Record:
-    """One signal with what the comparison needs to know about it."""
+    """One signal with what the comparison needs to know about it.
+
+    Attributes
+    ----------
+    label : str
+        Name in the figures and the summary.
+    source : str
+        What it is, e.g. ``"simulated"`` or ``"measured"``.
+    x : numpy.ndarray
+        The signal.
+    fs, shaft_hz, bpfo_hz : float
+        Sampling rate, shaft speed and ball-pass frequency of the outer race, Hz.
+    unit : str
+        Unit of ``x``.
+    frequencies : FaultFrequencies, optional
+        All fault frequencies (the envelope figure marks BPFI and BSF too).
+    events_s : numpy.ndarray, optional
+        Times of the defect events from the record's start, s, when known; otherwise the
+        envelope bursts are found (:func:`impact_times`).
+    events_label : str
+        What the given events are, for the figures' legend.
+    meta : dict
+        Written with the record's numbers in the summary.
+    """
 
     label: str
-    source: str  # "simulated" or "measured"
+    source: str
     x: np.ndarray
     fs: float
     shaft_hz: float
     bpfo_hz: float
     unit: str
     frequencies: FaultFrequencies | None = None
-    events_s: np.ndarray | None = None  # defect events (re-stressing) if known
+    events_s: np.ndarray | None = None
+    events_label: str = "defect events (given)"
     meta: dict = field(default_factory=dict)
 
 
@@ -82,108 +108,6 @@ class Analysis:
     events_s: np.ndarray
     events_label: str
     notes: list[str]
-
-
-def read_run_record(run_dir: str | os.PathLike, sensor: str | None = None) -> Record:
-    """The sensor acceleration of a simulated run folder.
-
-    Parameters
-    ----------
-    run_dir : path
-        Folder with ``summary.json`` (``bpfo_hz``, ``shaft_hz``, ``sensor_names``, ``events``
-        or ``restress_times_s``; optional ``geometry``) and ``histories.parquet``.
-    sensor : str, optional
-        A sensor name (its vertical acceleration ``<sensor>_ay`` is used; the case's sensors
-        sit on the load line, where vertical is radial) or a history column name. Default:
-        the first of ``sensor_names``.
-
-    Raises
-    ------
-    ValueError
-        If the folder is not a run folder or lacks what is needed.
-    """
-    import pandas as pd
-
-    run_dir = Path(run_dir)
-    summary_path = run_dir / "summary.json"
-    hist_path = run_dir / "histories.parquet"
-    if not summary_path.is_file():
-        raise ValueError(f"{run_dir}: not a run folder (no summary.json)")
-    if not hist_path.is_file():
-        raise ValueError(f"{run_dir}: no histories.parquet")
-    try:
-        summary = json.loads(summary_path.read_text())
-    except json.JSONDecodeError as exc:
-        raise ValueError(f"{summary_path}: not valid JSON ({exc})") from None
-    for key in ("bpfo_hz", "shaft_hz"):
-        if not isinstance(summary.get(key), (int, float)) or not summary[key] > 0:
-            raise ValueError(f"{summary_path}: needs a positive {key!r}")
-    frame = pd.read_parquet(hist_path)
-    names = summary.get("sensor_names") or [
-        c[: -len("_ay")] for c in frame.columns if c.endswith("_ay")
-    ]
-    sensor = sensor or (names[0] if names else None)
-    if sensor is None:
-        raise ValueError(f"{hist_path}: no sensor acceleration columns")
-    column = sensor if sensor in frame.columns else f"{sensor}_ay"
-    if column not in frame.columns:
-        raise ValueError(f"{run_dir}: no sensor {sensor!r}; sensors: {', '.join(names)}")
-    t = frame["time_s"].to_numpy(dtype=float)
-    if t.size < 2:
-        raise ValueError(f"{hist_path}: fewer than 2 rows")
-    fs = (t.size - 1) / (t[-1] - t[0])
-    x = frame[column].to_numpy(dtype=float)
-    events = [e.get("exit_time_s") for e in summary.get("events") or []]
-    if not events:
-        events = list(summary.get("restress_times_s") or [])
-    events = np.array([v for v in events if v is not None], dtype=float) - t[0]
-    g = run_geometry(run_dir, summary)
-    freqs = bearing_frequencies(g, float(summary["shaft_hz"])) if g is not None else None
-    return Record(
-        label=f"simulated: {summary.get('case_name', run_dir.name)} ({column})",
-        source="simulated",
-        x=x,
-        fs=float(fs),
-        shaft_hz=float(summary["shaft_hz"]),
-        bpfo_hz=float(summary["bpfo_hz"]),
-        unit="m/s^2",
-        frequencies=freqs,
-        events_s=events,
-        meta={"run_dir": str(run_dir), "column": column},
-    )
-
-
-def run_geometry(run_dir: str | os.PathLike, summary: dict | None = None):
-    """Bearing geometry of a run: ``summary["geometry"]`` (metres) or, failing that, the
-    ``bearing`` section of the run's ``case.yaml`` (``n_rollers``, ``roller_diameter_mm``,
-    ``pitch_diameter_mm``). None when neither is there."""
-    run_dir = Path(run_dir)
-    if summary is None:
-        summary = json.loads((run_dir / "summary.json").read_text())
-    g = summary.get("geometry") or {}
-    try:
-        return BearingGeometry(
-            int(g["n_rollers"]),
-            float(g["roller_diameter_m"]),
-            float(g["pitch_diameter_m"]),
-            float(g.get("contact_angle_deg", 0.0)),
-        )
-    except (KeyError, TypeError, ValueError):
-        pass
-    case_path = run_dir / "case.yaml"
-    if not case_path.is_file():
-        return None
-    try:
-        import yaml  # the run folder's own format; not a taichi import
-
-        b = (yaml.safe_load(case_path.read_text()) or {}).get("bearing") or {}
-        return BearingGeometry(
-            int(b["n_rollers"]),
-            1e-3 * float(b["roller_diameter_mm"]),
-            1e-3 * float(b["pitch_diameter_mm"]),
-        )
-    except (ImportError, KeyError, TypeError, ValueError, AttributeError):
-        return None
 
 
 def measured_record(
@@ -266,9 +190,9 @@ def analyse(rec: Record) -> Analysis:
     f_min = third_octave_f_min(x.size / fs)
     fc, level = third_octave(x, fs, f_min=f_min)
     total = 10.0 * np.log10(np.mean(x**2) + np.finfo(float).tiny)
-    if rec.events_s is not None and rec.events_s.size:
+    if rec.events_s is not None and np.size(rec.events_s):
         events = np.asarray(rec.events_s, dtype=float)
-        events_label = "re-stressing (exit), from the run"
+        events_label = rec.events_label
     else:
         events = impact_times(x, fs, band, bpfo)
         events_label = "envelope burst (strongest per BPFO period)"
@@ -328,18 +252,20 @@ def compare_figures(records: list[Record], analyses: list[Analysis], out: Path) 
         a, b, start = _window(rec, an, periods)
         t = (np.arange(a, b) / rec.fs - start) * rec.bpfo_hz
         ax.plot(t, rec.x[a:b], lw=0.6, color=c)
-        for k, ev in enumerate(an.events_s):
-            if start <= ev <= start + periods / rec.bpfo_hz:
-                ax.axvline(
-                    (ev - start) * rec.bpfo_hz,
-                    color="k",
-                    ls="--",
-                    lw=0.7,
-                    label=an.events_label if k == 0 else None,
-                )
+        # Only the events in the window are drawn; the first of them carries the label
+        # (an event before the window would leave the legend empty).
+        shown = [ev for ev in an.events_s if start <= ev <= start + periods / rec.bpfo_hz]
+        for k, ev in enumerate(shown):
+            ax.axvline(
+                (ev - start) * rec.bpfo_hz,
+                color="k",
+                ls="--",
+                lw=0.7,
+                label=an.events_label if k == 0 else None,
+            )
         ax.set_ylabel(rec.unit)
         ax.set_title(f"{rec.label}: from {start:.4g} s, BPFO {rec.bpfo_hz:.4g} Hz", fontsize=10)
-        if an.events_s.size:
+        if shown:
             ax.legend(loc="upper right", fontsize="small")
     axes[-1].set_xlabel("time (BPFO periods)")
     written.append(save_figure(fig, out / "compare_time.png"))
@@ -470,3 +396,44 @@ def compare_summary(records: list[Record], analyses: list[Analysis]) -> dict:
         "bpfo_comb_shown": shows,
         "all_show_bpfo_comb": all(shows) if None not in shows else None,
     }
+
+
+def compare_records(records: list[Record], out: str | os.PathLike) -> dict:
+    """Analyse every record (:func:`analyse`), draw the figures and write ``summary.json``
+    into ``out``.
+
+    Parameters
+    ----------
+    records : list of Record
+        Two or more records; the first is the reference of ``speed_ratio``.
+    out : str or path-like
+        Output folder.
+
+    Returns
+    -------
+    dict
+        :func:`compare_summary` with the figure file names under ``"figures"``.
+    """
+    from diagnostics.files import write_json
+
+    out = Path(out)
+    analyses = [analyse(r) for r in records]
+    figures = compare_figures(records, analyses, out)
+    summary = compare_summary(records, analyses)
+    summary["figures"] = figures
+    write_json(out / "summary.json", summary)
+    return summary
+
+
+def summary_lines(summary: dict) -> list[str]:
+    """One line per record of a :func:`compare_records` summary (and its notes)."""
+    lines = []
+    for it in summary["records"]:
+        ratios = ", ".join(f"{v:.3g}" for v in it["bpfo_harmonic_ratios"])
+        lines.append(
+            f"{it['label']}: {it['fs_hz']:g} Hz, {it['duration_s']:.3g} s "
+            f"({it['bpfo_periods']:.3g} BPFO periods), BPFO {it['bpfo_hz']:.4g} Hz, band "
+            f"{it['band_hz'][0]:.0f}-{it['band_hz'][1]:.0f} Hz, BPFO x1..5 / median: {ratios}"
+        )
+        lines += [f"  note: {note}" for note in it["notes"]]
+    return lines

@@ -1,4 +1,4 @@
-"""Command line: ``python -m taichi_bearing [run|mesh|analytic|sweep|post] CASE.yaml ...``.
+"""Command line: ``python -m taichi_bearing [run|mesh|analytic|sweep|post|compare] ...``.
 
 A bare case file (``python -m taichi_bearing cases/line_spall.yaml``) means ``run``.
 Each subcommand lives in ``taichi_bearing.commands.<name>`` and provides
@@ -19,7 +19,8 @@ COMMANDS = {
     "mesh": "build the finite element mesh, write mesh.vtu, pictures and statistics",
     "analytic": "quasi-static load distribution with the spall, tables and figures",
     "sweep": "run a load x speed matrix of cases",
-    "post": "redo the checks, figures and report of a finished run folder",
+    "post": "redo the checks, figures and report of a run folder (finished or not)",
+    "compare": "a run's sensor acceleration against measured records, side by side",
 }
 
 

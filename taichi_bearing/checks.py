@@ -1,11 +1,13 @@
-"""Checks a bearing run performs on its own results (numpy/pandas only, no Taichi).
+"""Checks a bearing run performs on its own results: post-processing of the run folder
+(numpy/pandas only; no Taichi, no mesh, no solver).
 
-Inputs are the case, the mesh's ``info`` (polygon edge counts, spall geometry), the
-histories (a DataFrame with the columns of ``notes/rundir.md``) and the preload result
-(static roller forces, against the rigid-ring analytical model and the flexible-ring
-reference). :func:`run_checks` returns the ``summary.json`` entries; every
-check is ``{value, limit, passed, note}`` (``passed`` None when it does not apply, e.g.
-too short a run for two re-stressing events).
+Inputs are what the run folder holds (:mod:`taichi_bearing.run_folder`): the case, the
+mesh's ``info`` (``mesh_info.json``: polygon edge counts, spall geometry), the histories
+(a DataFrame with the run folder's columns) and ``preload.json`` (static roller forces,
+compared with the rigid-ring analytical model and with the flexible-ring reference solved
+during the run; the ideal rolling rates). :func:`run_checks` returns the ``summary.json``
+entries; every check is ``{value, limit, passed, note}`` (``passed`` None when it does not
+apply, e.g. too short a run for two re-stressing events).
 """
 
 from __future__ import annotations
@@ -19,8 +21,16 @@ import pandas as pd
 from taichi_bearing.bearing import fault_frequencies
 from taichi_bearing.case import Case
 from taichi_bearing.quasistatic import analytical_roller_forces
-from taichi_bearing.starter import rolling_rates
-from taichi_bearing.static_reference import reference_roller_forces
+from taichi_bearing.run_folder import (
+    BALANCE_COLUMN,
+    CAGE_COLUMNS,
+    REFERENCE_KEY,
+    ROLLING_RATES_KEY,
+    TIME_COLUMN,
+    roller_force_column,
+    roller_motion_column,
+    sensor_column,
+)
 
 __all__ = [
     "SpallEvent",
@@ -161,42 +171,46 @@ def _slope(t: np.ndarray, y: np.ndarray) -> float:
     return float(np.polyfit(t, y, 1)[0])
 
 
-def speed_checks(case: Case, hist: pd.DataFrame) -> tuple[dict[str, dict], dict]:
+def speed_checks(
+    case: Case, hist: pd.DataFrame, rates: Mapping[str, float]
+) -> tuple[dict[str, dict], dict]:
     """Cage speed and the spin of the loaded rollers (relative to the cage) after the
     start-up, against ideal rolling.
 
     The cage speed of kinematics is the orbital speed of the roller set: measured as the
     slope of the rollers' mean centre angle (the rigid cage, which only follows them
-    through its pockets, is reported beside it).
+    through its pockets, is reported beside it). ``rates``: the ideal rolling rates of
+    ``preload.json`` (``cage``, ``roller_relative``, rad/s).
     """
-    rates = rolling_rates(case)
-    t = hist["time_s"].to_numpy()
+    t = hist[TIME_COLUMN].to_numpy()
     after = t >= startup_time(case)
     n = case.bearing.n_rollers
-    cols = [f"roller{j}_angle_rad" for j in range(n)]
+    cage_col = CAGE_COLUMNS[0]
+    cols = [roller_motion_column(j, "angle_rad") for j in range(n)]
     if all(c in hist for c in cols):
         orbit = hist[cols].to_numpy().mean(axis=1)
         source = "mean roller orbit"
     else:
-        orbit = hist["cage_angle_rad"].to_numpy()
+        orbit = hist[cage_col].to_numpy()
         source = "cage angle"
     cage = _slope(t[after], orbit[after])
-    rigid = _slope(t[after], hist["cage_angle_rad"].to_numpy()[after])
-    cage_err = abs(cage - rates.cage) / abs(rates.cage)
+    rigid = _slope(t[after], hist[cage_col].to_numpy()[after])
+    ideal_cage, ideal_spin = rates["cage"], rates["roller_relative"]
+    cage_err = abs(cage - ideal_cage) / abs(ideal_cage)
     out = {
         "cage_speed": check(
             cage_err,
             SPEED_LIMIT,
             cage_err <= SPEED_LIMIT,
-            f"{source} {cage:.5g} rad/s vs kinematics {rates.cage:.5g} rad/s "
+            f"{source} {cage:.5g} rad/s vs kinematics {ideal_cage:.5g} rad/s "
             f"(rigid cage {rigid:.5g} rad/s)",
         )
     }
     # spin relative to the cage, of rollers in the load zone (|angle| < 60 deg)
     spins = []
     for j in range(n):
-        a = hist.get(f"roller{j}_angle_rad")
-        s = hist.get(f"roller{j}_spin_rad_s")
+        a = hist.get(roller_motion_column(j, "angle_rad"))
+        s = hist.get(roller_motion_column(j, "spin_rad_s"))
         if a is None or s is None:
             continue
         a = np.asarray(a)
@@ -205,13 +219,13 @@ def speed_checks(case: Case, hist: pd.DataFrame) -> tuple[dict[str, dict], dict]
             spins.append(np.asarray(s)[zone] - cage)
     if spins:
         rel_spin = float(np.median(np.concatenate(spins)))
-        spin_err = abs(rel_spin - rates.roller_relative) / abs(rates.roller_relative)
+        spin_err = abs(rel_spin - ideal_spin) / abs(ideal_spin)
         out["roller_spin"] = check(
             spin_err,
             SPEED_LIMIT,
             spin_err <= SPEED_LIMIT,
             f"median spin relative to the cage of the loaded rollers {rel_spin:.5g} rad/s "
-            f"vs kinematics {rates.roller_relative:.5g} rad/s",
+            f"vs kinematics {ideal_spin:.5g} rad/s",
         )
     return out, {
         "cage_speed_rad_s": cage,
@@ -225,7 +239,7 @@ def speed_checks(case: Case, hist: pd.DataFrame) -> tuple[dict[str, dict], dict]
 
 def energy_balance_check(hist: pd.DataFrame) -> tuple[dict, float]:
     """Largest |energy balance error| of the run (relative to the largest energy)."""
-    err = float(np.max(np.abs(hist["energy_balance_error"].to_numpy())))
+    err = float(np.max(np.abs(hist[BALANCE_COLUMN].to_numpy())))
     return check(err, ENERGY_LIMIT, err <= ENERGY_LIMIT, "max over the run"), err
 
 
@@ -273,14 +287,14 @@ def detect_spall_events(
     d = min(float(spall["depth"]), dip)
     meet = (math.sqrt(2.0 * roller_radius * d) + 0.5e-3) / radius
     lead = 1e-3 / radius
-    t = hist["time_s"].to_numpy()
+    t = hist[TIME_COLUMN].to_numpy()
     events = []
     for j in range(n_rollers):
-        a_col = f"roller{j}_angle_rad"
+        a_col = roller_motion_column(j, "angle_rad")
         if a_col not in hist:
             continue
         rel = (hist[a_col].to_numpy() - start + math.pi) % (2 * math.pi) - math.pi
-        fn = hist[f"roller{j}_outer_fn"].to_numpy()
+        fn = hist[roller_force_column(j, "outer", "fn")].to_numpy()
         before = rel < -lead
         # the roller must come from before the spall and get past its exit edge
         ref = before & (rel > -2 * span - lead)
@@ -344,10 +358,10 @@ def passage_signature(
     """
     from scipy.signal import find_peaks
 
-    t = hist["time_s"].to_numpy()
+    t = hist[TIME_COLUMN].to_numpy()
     j = int(event["roller"])
-    fn = hist[f"roller{j}_outer_fn"].to_numpy()
-    inner = hist.get(f"roller{j}_inner_fn")
+    fn = hist[roller_force_column(j, "outer", "fn")].to_numpy()
+    inner = hist.get(roller_force_column(j, "inner", "fn"))
     both = fn if inner is None else np.maximum(fn, inner.to_numpy())
     acc = hist[signal].to_numpy()
     acc = np.abs(acc - np.median(acc))
@@ -424,18 +438,18 @@ def restress_check(events: list, bpfo_hz: float) -> dict:
 # ------------------------------------------------------------------ numerical noise
 
 
-def predicted_noise_frequencies(case: Case, info: Mapping) -> dict[str, float]:
+def predicted_noise_frequencies(info: Mapping, rates: Mapping[str, float]) -> dict[str, float]:
     """Rolling-contact noise of the faceted (polygonal) surfaces, Hz: each contact crosses
     the facets of a surface at (edges) x (the surface's rotation rate relative to the
     contact): outer raceway N_o f_cage, inner N_i (f_shaft - f_cage), roller N_r f_spin
-    relative to the cage."""
-    rates = rolling_rates(case)
+    relative to the cage. ``info``: the mesh info (``polygon_edges``); ``rates``: the ideal
+    rolling rates (``shaft``, ``cage``, ``roller_relative``, rad/s)."""
     edges = info["polygon_edges"]
     two_pi = 2 * math.pi
     return {
-        "outer_raceway": edges["outer_raceway"] * abs(rates.cage) / two_pi,
-        "inner_raceway": edges["inner_raceway"] * abs(rates.shaft - rates.cage) / two_pi,
-        "roller": edges["roller0"] * abs(rates.roller_relative) / two_pi,
+        "outer_raceway": edges["outer_raceway"] * abs(rates["cage"]) / two_pi,
+        "inner_raceway": edges["inner_raceway"] * abs(rates["shaft"] - rates["cage"]) / two_pi,
+        "roller": edges["roller0"] * abs(rates["roller_relative"]) / two_pi,
     }
 
 
@@ -555,43 +569,64 @@ def defect_size_check(case: Case, signal: np.ndarray, fs: float) -> tuple[dict, 
 
 def main_sensor(case: Case, hist: pd.DataFrame) -> str:
     """The sensor whose vertical acceleration is analysed (the first in the case)."""
-    names = [n for n in case.sensors if f"{n}_ay" in hist]
+    names = [n for n in case.sensors if sensor_column(n, "ay") in hist]
     if not names:
         raise ValueError("the histories hold no sensor acceleration")
     return names[0]
 
 
 def run_checks(case: Case, info: Mapping, hist: pd.DataFrame, preload: Mapping) -> dict:
-    """All checks of a finished run, as ``summary.json`` entries."""
+    """All checks of a run, as ``summary.json`` entries.
+
+    Parameters
+    ----------
+    case : Case
+        The run's ``case.yaml``.
+    info : mapping
+        The mesh info (``mesh_info.json``).
+    hist : pandas.DataFrame
+        The histories (a run that did not finish: what was recorded).
+    preload : mapping
+        ``preload.json``: ``outer_force_N`` and the entries written after the preload,
+        the flexible-ring reference and the ideal rolling rates
+        (:data:`~taichi_bearing.run_folder.REFERENCE_KEY`,
+        :data:`~taichi_bearing.run_folder.ROLLING_RATES_KEY`).
+
+    Returns
+    -------
+    dict
+    """
     n = case.bearing.n_rollers
     freqs = fault_frequencies(case.bearing, case.operating.shaft_hz)
+    rates = preload[ROLLING_RATES_KEY]
     checks: dict[str, dict] = {}
     analytical = analytical_roller_forces(case)
     static = np.asarray(preload["outer_force_N"], dtype=float)
     checks.update(static_force_checks(static, analytical, case.bearing.outer_support))
-    reference = reference_roller_forces(case)
+    reference = np.asarray(preload[REFERENCE_KEY], dtype=float)
     checks.update(flexible_reference_checks(static, reference))
-    speed, speed_values = speed_checks(case, hist)
+    speed, speed_values = speed_checks(case, hist, rates)
     checks.update(speed)
     checks["energy_balance"], balance = energy_balance_check(hist)
     events = detect_spall_events(hist, n, info, case.bearing.roller_radius)
     checks["restress_interval"] = restress_check(events, freqs.bpfo)
     fs = case.run.sample_rate
     sensor = main_sensor(case, hist)
-    acc = hist[f"{sensor}_ay"].to_numpy()
+    signal = sensor_column(sensor, "ay")
+    acc = hist[signal].to_numpy()
     # windows of 1.5 mm of contact travel (the re-stressing takes longer at low speed)
-    window = PASSAGE_WINDOW_M / (rolling_rates(case).cage * case.bearing.outer_raceway_radius)
-    signatures = [passage_signature(hist, e, f"{sensor}_ay", window) for e in events]
+    window = PASSAGE_WINDOW_M / (rates["cage"] * case.bearing.outer_raceway_radius)
+    signatures = [passage_signature(hist, e, signal, window) for e in events]
     for e, sig in zip(events, signatures, strict=True):
         e.update(sig)
     checks["exit_burst"] = exit_burst_check(signatures)
-    predicted = predicted_noise_frequencies(case, info)
+    predicted = predicted_noise_frequencies(info, rates)
     measured, resolution, prominence = noise_frequencies(acc, fs, predicted)
     checks["noise_frequencies"] = noise_check(predicted, measured, resolution, prominence)
     checks["defect_size"], size = defect_size_check(case, acc, fs)
     return {
         "sensor_names": list(case.sensors),
-        "analysed_signal": f"{sensor}_ay",
+        "analysed_signal": signal,
         "n_rollers": n,
         "shaft_hz": case.operating.shaft_hz,
         "ftf_hz": freqs.ftf,

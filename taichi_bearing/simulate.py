@@ -4,15 +4,15 @@
 plain data of the one before: the case, the mesh (:mod:`taichi_bearing.mesh`), the set-up
 (:mod:`taichi_bearing.starter`), the Taichi model and its time loop
 (:mod:`taichi_bearing.solver`), the histories on disk, the checks
-(:mod:`taichi_bearing.checks`). The run folder follows ``notes/rundir.md``:
-``case.yaml``, ``mesh_statistics.json``, ``preload.json``, ``histories.parquet``,
-``frames/``, ``checkpoints/``, ``summary.json``, figures and report.
+(:mod:`taichi_bearing.checks`). The run folder's files are those of
+:mod:`taichi_bearing.run_folder`: ``case.yaml``, ``mesh_statistics.json``,
+``mesh_info.json``, ``preload.json`` (with the flexible-ring reference), ``summary.json``,
+``histories.parquet``, ``frames/``, ``checkpoints/``, figures and report.
 """
 
 from __future__ import annotations
 
 import dataclasses
-import json
 import math
 import time
 from dataclasses import dataclass, field
@@ -30,11 +30,28 @@ from taichi_bearing.output.checkpoint import fingerprint, latest_checkpoint
 from taichi_bearing.output.histories import read_histories
 from taichi_bearing.output.summary import write_summary
 from taichi_bearing.recorders import CageRecorder, ContactForceRecorder, RollerMotionRecorder
-from taichi_bearing.starter import Setup, align_rollers, build_setup
+from taichi_bearing.run_folder import (
+    CASE_FILE,
+    CHECKPOINTS_DIR,
+    HISTORIES_FILE,
+    HISTORIES_PARTS_DIR,
+    MESH_INFO_FILE,
+    MESH_STATISTICS_FILE,
+    PRELOAD_FILE,
+    REFERENCE_KEY,
+    ROLLING_RATES_KEY,
+    STATUS_FINISHED,
+    STATUS_INTERRUPTED,
+    STATUS_RUNNING,
+    STATUS_STOPPED,
+    load_run,
+    missing_for_checks,
+    read_json,
+    rolling_rates_entry,
+)
+from taichi_bearing.starter import Setup, align_rollers, build_setup, rolling_rates
 
 __all__ = ["BearingModel", "build_model", "preload", "recheck_run", "run_case", "stage_mesh"]
-
-PRELOAD_FILE = "preload.json"
 
 
 @dataclass
@@ -193,9 +210,21 @@ def _fingerprint(case: Case, mesh: Mesh) -> str:
 def _write_case(case: Case, out: Path) -> None:
     from diagnostics.files import atomic_path
 
-    path = out / "case.yaml"
+    path = out / CASE_FILE
     with atomic_path(path) as tmp:
         Path(tmp).write_text(yaml.safe_dump(case_to_dict(case), sort_keys=False))
+
+
+def _check_entries(case: Case, mesh: Mesh) -> dict:
+    """The ``preload.json`` entries the checks read besides the preload's own result: the
+    flexible-ring reference forces, solved on this mesh (one sparse factorisation of the
+    rings' stiffness), and the ideal rolling rates the transient starts from."""
+    from taichi_bearing.static_reference import reference_roller_forces
+
+    return {
+        REFERENCE_KEY: reference_roller_forces(case, mesh).tolist(),
+        ROLLING_RATES_KEY: rolling_rates_entry(rolling_rates(case)),
+    }
 
 
 def run_case(
@@ -248,12 +277,13 @@ def run_case(
     arch = arch or case.run.arch
     threads = case.run.threads if threads is None else threads
     times: dict[str, float] = {}
-    summary: dict = {"case_name": case.name, "stage_times_s": times, "status": "running"}
+    summary: dict = {"case_name": case.name, "stage_times_s": times, "status": STATUS_RUNNING}
 
     t0 = time.perf_counter()
     mesh, stats = stage_mesh(case)
     _write_case(case, out)
-    write_json(out / "mesh_statistics.json", stats)
+    write_json(out / MESH_STATISTICS_FILE, stats)
+    write_json(out / MESH_INFO_FILE, mesh.info)
     times["mesh"] = time.perf_counter() - t0
     say(f"mesh: {mesh.n_elements} elements, {mesh.n_nodes} nodes ({times['mesh']:.1f} s)")
 
@@ -268,18 +298,29 @@ def run_case(
 
     if resume:
         pre_path = out / PRELOAD_FILE
-        if latest_checkpoint(out / "checkpoints") is None or not pre_path.is_file():
+        if latest_checkpoint(out / CHECKPOINTS_DIR) is None or not pre_path.is_file():
             raise InputError(f"--resume: no checkpoint or {PRELOAD_FILE} in {out}")
-        pre = json.loads(pre_path.read_text())
+        pre = read_json(pre_path)
         times["preload"] = float(pre.get("wall_s", 0.0))
+        if REFERENCE_KEY not in pre or ROLLING_RATES_KEY not in pre:
+            # a folder from before the preload recorded them: solve them on this mesh
+            pre.update(_check_entries(case, mesh))
+            write_json(pre_path, pre)
     else:
         t0 = time.perf_counter()
         pre = preload(bm)
         pre["wall_s"] = times["preload"] = time.perf_counter() - t0
-        write_json(out / PRELOAD_FILE, pre)
         say(
             f"preload: {pre['steps']} steps, KE ratio {pre['ke_ratio']:.2g}, "
             f"max roller force {max(pre['outer_force_N']):.4g} N ({times['preload']:.1f} s)"
+        )
+        t0 = time.perf_counter()
+        pre.update(_check_entries(case, mesh))
+        times["reference"] = time.perf_counter() - t0
+        write_json(out / PRELOAD_FILE, pre)
+        say(
+            f"flexible-ring reference: max roller force {max(pre[REFERENCE_KEY]):.4g} N "
+            f"({times['reference']:.1f} s)"
         )
         model.set_initial_velocities()  # ideal rolling from the preloaded positions
         if bm.cage is not None:
@@ -295,6 +336,11 @@ def run_case(
         csv=case.output.csv,
         progress=False if quiet else None,
     )
+    size = {"n_elements": mesh.n_elements, "n_nodes": mesh.n_nodes}
+    inputs = {"mesh_statistics": stats, "preload": pre, "setup_notes": bm.setup.notes}
+    # status "running" until the end: what a run killed hard (kill -9) leaves as summary
+    # (the time step is set by the transient, to fit the sample interval)
+    _write_partial(out, {**summary, **size, **inputs})
     t0 = time.perf_counter()
     interrupted = None
     try:
@@ -308,8 +354,7 @@ def run_case(
     times["transient"] = time.perf_counter() - t0
     summary.update(
         {
-            "n_elements": mesh.n_elements,
-            "n_nodes": mesh.n_nodes,
+            **size,
             "dt_s": model.dt,
             "time_step": {
                 "method": model.time_step,
@@ -324,14 +369,12 @@ def run_case(
                 mesh.n_elements * _steps_this_call(result, model, case, resume)
                 / max(times["transient"], 1e-9)
             ),
-            "mesh_statistics": stats,
-            "preload": pre,
-            "setup_notes": bm.setup.notes,
+            **inputs,
         }
     )  # fmt: skip
     if interrupted is not None:
         summary["status"] = (
-            "interrupted" if isinstance(interrupted, KeyboardInterrupt) else "stopped"
+            STATUS_INTERRUPTED if isinstance(interrupted, KeyboardInterrupt) else STATUS_STOPPED
         )
         summary["stop_reason"] = str(interrupted) or type(interrupted).__name__
         _write_partial(out, summary)
@@ -344,7 +387,7 @@ def run_case(
     t0 = time.perf_counter()
     hist = read_histories(out)
     summary.update(run_checks(case, mesh.info, hist, pre))
-    summary["status"] = "finished"
+    summary["status"] = STATUS_FINISHED
     times["post"] = time.perf_counter() - t0
     write_summary(out, summary)
     if post:
@@ -356,41 +399,101 @@ def run_case(
     return summary
 
 
-def recheck_run(out_dir: str | Path, *, post: bool = True, say=print) -> dict:
-    """Redo the checks (and figures and report) of a finished run from its folder.
+def recheck_run(out_dir: str | Path, *, post: bool = True, remesh: bool = False, say=print) -> dict:
+    """Redo the checks (and figures and report) of a run from its folder.
 
-    The simulation is not rerun: the case is read from the folder's ``case.yaml``, the
-    mesh rebuilt for its spall geometry and edge counts, the histories and the preload
-    read from disk. What the run measured (steps, times) is kept from ``summary.json``.
+    Pure post-processing: the case, the mesh info, the preload (with the flexible-ring
+    reference) and the histories are read from the folder
+    (:func:`taichi_bearing.run_folder.load_run`); nothing is meshed or solved. What the run
+    measured (steps, times) is kept from ``summary.json``. A run that did not finish
+    (Ctrl-C, a solver stop, ``kill -9`` with the histories only in parts) is checked on
+    what was recorded and marked partial: ``summary["partial"]`` says how far it got.
+
+    Parameters
+    ----------
+    out_dir : str or path
+        The run folder.
+    post : bool
+        Also redraw the figures and rewrite the report.
+    remesh : bool
+        For a folder written before runs recorded ``mesh_info.json`` and the reference:
+        mesh ``case.yaml`` again and solve them now (written to the folder; the
+        ``preload.json`` entries say they were computed by ``post --remesh``).
+    say : callable
+        Where notes go.
+
+    Returns
+    -------
+    dict
+        The summary written.
 
     Raises
     ------
     InputError
-        If the folder lacks a finished run's files.
+        Not a run folder, no histories, or the folder lacks what the checks need (one
+        line naming it).
     """
     from taichi_bearing.case import load_case
     from taichi_bearing.checks import run_checks
-    from taichi_bearing.mesh import build_bearing_mesh, spec_from_case
 
     out = Path(out_dir)
-    needed = ("case.yaml", PRELOAD_FILE, "summary.json", "histories.parquet")
-    missing = [n for n in needed if not (out / n).is_file()]
+    try:
+        run = load_run(out)
+        if remesh and missing_for_checks(run) and (out / CASE_FILE).is_file():
+            _remesh_for_checks(load_case(out / CASE_FILE), run)
+            run = load_run(out)
+    except (FileNotFoundError, ValueError) as exc:
+        raise InputError(" ".join(str(exc).split())) from None
+    missing = missing_for_checks(run)
     if missing:
-        raise InputError(f"{out}: not a run folder (missing {', '.join(missing)})")
-    summary = json.loads((out / "summary.json").read_text())
-    if summary.get("status") != "finished":
-        raise InputError(f"{out}: the run did not finish (status {summary.get('status')})")
-    case = load_case(out / "case.yaml")
-    mesh = build_bearing_mesh(spec_from_case(case))
-    pre = json.loads((out / PRELOAD_FILE).read_text())
+        hint = "" if remesh else "; `post --remesh` meshes case.yaml and solves them now"
+        raise InputError(
+            f"{out}: lacks {', '.join(missing)} (a run folder from before runs recorded them){hint}"
+        )
+    case = load_case(out / CASE_FILE)
+    summary = {"case_name": case.name, **run.summary}
     t0 = time.perf_counter()
-    summary.update(run_checks(case, mesh.info, read_histories(out), pre))
-    write_summary(out, summary)
+    summary.update(run_checks(case, run.mesh_info, run.histories, run.preload))
+    if run.partial:
+        summary["partial"] = {
+            "status": run.status,
+            "recorded_until_s": run.t_end,
+            "duration_s": case.run.duration,
+            "histories": HISTORIES_FILE if run.merged else f"{HISTORIES_PARTS_DIR}/ only",
+            "note": "the run did not finish"
+            + (" (killed, or still going)" if run.status in (None, STATUS_RUNNING) else "")
+            + "; the checks are of what was recorded",
+        }
+        say(
+            f"partial run (status {run.status}): checked on the "
+            f"{1e3 * run.t_end:.4g} ms recorded of {1e3 * case.run.duration:.4g} ms"
+        )
+    else:
+        summary.pop("partial", None)
+    write = _write_partial if run.partial else write_summary
+    write(out, summary)
     if post:
         _figures_and_report(out, say)
     summary.setdefault("stage_times_s", {})["post"] = time.perf_counter() - t0
-    write_summary(out, summary)
+    write(out, summary)
     return summary
+
+
+def _remesh_for_checks(case: Case, run) -> None:
+    """Write what a run folder from before ``mesh_info.json`` and the ``preload.json``
+    check entries lacks, from a new mesh of its case (``post --remesh``)."""
+    mesh, _ = stage_mesh(case)
+    if run.mesh_info is None:
+        write_json(run.run_dir / MESH_INFO_FILE, mesh.info)
+    lacking = [k for k in (REFERENCE_KEY, ROLLING_RATES_KEY) if k not in (run.preload or {})]
+    if run.preload is not None and lacking:
+        entries = _check_entries(case, mesh)
+        pre = {**run.preload, **{k: entries[k] for k in lacking}}
+        pre["computed_after_the_run"] = {
+            "keys": lacking,
+            "note": "computed by `post --remesh` from case.yaml (the run folder predates them)",
+        }
+        write_json(run.run_dir / PRELOAD_FILE, pre)
 
 
 def _steps_this_call(result, model, case: Case, resume: bool) -> int:

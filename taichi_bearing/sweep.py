@@ -1,17 +1,16 @@
 """A load x speed matrix of bearing runs, on a local process pool or a Dask cluster.
 
 Each cell is the case with ``operating.load_kN`` and ``operating.speed_rpm`` overridden,
-run into its own folder ``<sweep>/load_<L>kN_speed_<S>rpm/`` (``notes/rundir.md``). The
-run folders are the record: a cell whose ``summary.json`` says ``status: finished`` is not
-run again. :func:`run_cell` is the one task function, sent unchanged to either engine; it
-runs the case in a child Python process (``python -m taichi_bearing run``), so Taichi's
-global state and thread pool belong to that case alone and a crash of one case cannot take
-a pool or Dask worker down with it.
+run into its own run folder ``<sweep>/load_<L>kN_speed_<S>rpm/``
+(:mod:`taichi_bearing.run_folder`). The run folders are the record: a cell whose
+``summary.json`` says ``status: finished`` is not run again. :func:`run_cell` is the one
+task function, sent unchanged to either engine; it runs the case in a child Python process
+(``python -m taichi_bearing run``), so Taichi's global state and thread pool belong to that
+case alone and a crash of one case cannot take a pool or Dask worker down with it.
 """
 
 from __future__ import annotations
 
-import json
 import math
 import os
 import subprocess
@@ -23,6 +22,7 @@ from pathlib import Path
 
 from taichi_bearing.case import load_case
 from taichi_bearing.errors import InputError
+from taichi_bearing.run_folder import STATUS_FINISHED, read_summary
 
 __all__ = [
     "SweepCell",
@@ -34,8 +34,6 @@ __all__ = [
     "run_cell",
     "run_sweep",
 ]
-
-SUMMARY = "summary.json"
 
 
 @dataclass(frozen=True)
@@ -193,11 +191,11 @@ def make_cells(
 
 def is_finished(run_dir: str | os.PathLike) -> bool:
     """Whether a run folder holds a ``summary.json`` with ``status: finished``."""
-    path = Path(run_dir) / SUMMARY
     try:
-        return json.loads(path.read_text()).get("status") == "finished"
-    except (OSError, ValueError, AttributeError):
+        summary = read_summary(run_dir)
+    except (OSError, ValueError):
         return False
+    return summary is not None and summary.get("status") == STATUS_FINISHED
 
 
 def local_threads(workers: int, cores: int | None = None) -> int:

@@ -17,6 +17,13 @@ import numpy as np
 
 from diagnostics.envelope import envelope
 from taichi_bearing.checks import EXIT_BURST_S
+from taichi_bearing.run_folder import (
+    RACES,
+    TIME_COLUMN,
+    load_run,
+    roller_force_column,
+    sensor_acceleration,
+)
 
 __all__ = ["METRICS", "cell_metrics", "envelope_level_at"]
 
@@ -62,15 +69,15 @@ def _window(t: np.ndarray, lo: float, hi: float) -> np.ndarray:
 
 def _passage_forces(hist, event: dict) -> dict[str, float]:
     """Peak and envelope maximum of one passing roller's raceway forces."""
-    t = hist["time_s"].to_numpy(dtype=float)
+    t = hist[TIME_COLUMN].to_numpy(dtype=float)
     fs = 1.0 / float(np.median(np.diff(t)))
     j = int(event["roller"])
     entry, leave = float(event["entry_time_s"]), float(event["exit_time_s"])
     win = _window(t, entry - WINDOW_S, leave + WINDOW_S)
     before = t < entry - WINDOW_S
     out: dict[str, float] = {}
-    for race in ("outer", "inner"):
-        fn = hist[f"roller{j}_{race}_fn"].to_numpy(dtype=float)
+    for race in RACES:
+        fn = hist[roller_force_column(j, race, "fn")].to_numpy(dtype=float)
         ref = float(np.median(fn[before])) if before.any() else float(np.median(fn))
         # envelope over the whole record (no edge effect inside the window), about the
         # force the roller carried before the spall
@@ -78,8 +85,8 @@ def _passage_forces(hist, event: dict) -> dict[str, float]:
         out[f"{race}_peak_N"] = float(fn[win].max()) if win.any() else math.nan
         out[f"{race}_env_max_N"] = float(env[win].max()) if win.any() else math.nan
     both = np.maximum(
-        hist[f"roller{j}_outer_fn"].to_numpy(dtype=float),
-        hist[f"roller{j}_inner_fn"].to_numpy(dtype=float),
+        hist[roller_force_column(j, "outer", "fn")].to_numpy(dtype=float),
+        hist[roller_force_column(j, "inner", "fn")].to_numpy(dtype=float),
     )
     hit = float(event.get("first_impact_time_s", leave))
     rs = _window(t, hit, hit + max(WINDOW_S, EXIT_BURST_S))
@@ -95,14 +102,12 @@ def cell_metrics(run_dir: str | os.PathLike) -> dict[str, float]:
     Raises
     ------
     FileNotFoundError, ValueError
-        When the folder is not a readable run (see :func:`taichi_bearing.post.run_data.load_run`).
+        When the folder is not a readable run (see :func:`taichi_bearing.run_folder.load_run`).
     """
-    from taichi_bearing.post.run_data import load_run, sensor_acceleration
-
     run = load_run(run_dir)
     hist = run.histories
     x, _ = sensor_acceleration(run)
-    t = hist["time_s"].to_numpy(dtype=float)
+    t = hist[TIME_COLUMN].to_numpy(dtype=float)
     m: dict[str, float] = dict.fromkeys(METRICS, math.nan)
     m["bpfo_hz"] = run.bpfo_hz
     m["periods"] = float((t[-1] - t[0] + 1.0 / run.fs) * run.bpfo_hz)
@@ -117,7 +122,7 @@ def cell_metrics(run_dir: str | os.PathLike) -> dict[str, float]:
     inner = [c for c in hist.columns if c.endswith("_inner_fn")]
     m["max_outer_fn_N"] = float(hist[outer].to_numpy().max()) if outer else math.nan
     m["max_inner_fn_N"] = float(hist[inner].to_numpy().max()) if inner else math.nan
-    events = [e for e in run.summary.get("events") or [] if e.get("roller") is not None]
+    events = [e for e in run.events if e["roller"] is not None]
     m["n_passages"] = len(events)
     per = [_passage_forces(hist, e) for e in events]
     for key in ("outer_peak_N", "outer_env_max_N", "inner_peak_N", "inner_env_max_N",

@@ -150,6 +150,7 @@ def make_synthetic_run(
     }
     summary = {
         "case_name": case.name,
+        "status": "finished",
         "n_elements": mesh_stats["n_elements"] if mesh_stats else 4038,
         "n_nodes": mesh_stats["n_nodes"] if mesh_stats else 4644,
         "dt_s": 2.1e-7,

@@ -1,4 +1,7 @@
-"""python -m diagnostics compare RUN_DIR MEASURED...: figures, summary.json, one-line errors."""
+"""diagnostics.compare: records (arrays, sampling rates, event times) through one pipeline,
+figures side by side; ``python -m diagnostics compare`` points to the simulator's command.
+
+The comparison of a simulated run folder is tested in test_compare_cli.py."""
 
 from __future__ import annotations
 
@@ -6,17 +9,24 @@ import json
 import os
 import subprocess
 import sys
+import warnings
 from pathlib import Path
 
 import numpy as np
 import pytest
-from synthetic_run import make_synthetic_run
 
 from diagnostics import BearingGeometry, bearing_frequencies
-from diagnostics.compare import analyse, measured_record, read_run_record
+from diagnostics.compare import (
+    Record,
+    analyse,
+    compare_figures,
+    compare_records,
+    measured_record,
+    summary_lines,
+)
 
 ROOT = Path(__file__).resolve().parents[1]
-CWRU_BEARING = "n=9,d=7.94mm,D=39.04mm"
+GEOMETRY = BearingGeometry(9, 7.94e-3, 39.04e-3)
 FIGURES = {
     "compare_time.png",
     "compare_spectrogram.png",
@@ -25,88 +35,36 @@ FIGURES = {
 }
 
 
-def _cli(*args: str) -> subprocess.CompletedProcess:
-    env = dict(os.environ, PYTHONPATH=str(ROOT), MPLBACKEND="Agg")
-    return subprocess.run(
-        [sys.executable, "-m", "diagnostics", "compare", *args],
-        capture_output=True,
-        text=True,
-        env=env,
-        cwd=ROOT,
-        timeout=300,
-    )
-
-
-@pytest.fixture(scope="module")
-def run_dir(tmp_path_factory):
-    d = tmp_path_factory.mktemp("run")
-    make_synthetic_run(d, frames=False)
-    return d
+def _struck(fs: float, seconds: float, rate_hz: float, first_s: float, seed: int = 3):
+    """Noise with a 3 kHz resonance struck every 1/rate_hz from first_s; the strike times."""
+    t = np.arange(int(seconds * fs)) / fs
+    x = 0.05 * np.random.default_rng(seed).standard_normal(t.size)
+    strikes = np.arange(first_s, t[-1] - 0.01, 1.0 / rate_hz)
+    for t0 in strikes:
+        dt = t[t >= t0] - t0
+        x[t >= t0] += np.exp(-dt / 5e-4) * np.sin(2 * np.pi * 3000.0 * dt)
+    return x, strikes
 
 
 @pytest.fixture(scope="module")
 def measured_csv(tmp_path_factory):
     """2 s at 20 kHz, 1200 rpm, CWRU bearing: a 3 kHz resonance struck once per BPFO."""
     fs, rpm = 20e3, 1200.0
-    bpfo = bearing_frequencies(BearingGeometry(9, 7.94e-3, 39.04e-3), rpm / 60).bpfo
-    t = np.arange(int(2.0 * fs)) / fs
-    rng = np.random.default_rng(3)
-    x = 0.05 * rng.standard_normal(t.size)
-    for t0 in np.arange(0.01, t[-1] - 0.01, 1.0 / bpfo):
-        dt = t[t >= t0] - t0
-        x[t >= t0] += np.exp(-dt / 5e-4) * np.sin(2 * np.pi * 3000.0 * dt)
+    bpfo = bearing_frequencies(GEOMETRY, rpm / 60).bpfo
+    x, _ = _struck(fs, 2.0, bpfo, 0.01)
+    t = np.arange(x.size) / fs
     path = tmp_path_factory.mktemp("meas") / "rig.csv"
     np.savetxt(path, np.column_stack([t, x]), delimiter=",", header="time,accel", comments="")
     return path, bpfo
 
 
-def test_compare_synthetic_measured_record(run_dir, measured_csv, tmp_path):
-    path, bpfo = measured_csv
-    out = tmp_path / "cmp"
-    res = _cli(str(run_dir), str(path), "--rpm", "1200", "--bearing", CWRU_BEARING,
-               "--out", str(out))  # fmt: skip
-    assert res.returncode == 0, res.stderr
-    summary = json.loads((out / "summary.json").read_text())
-    assert set(summary["figures"]) == FIGURES
-    for name in FIGURES:
-        assert (out / name).read_bytes()[:4] == b"\x89PNG"
-    sim, meas = summary["records"]
-    run_summary = json.loads((run_dir / "summary.json").read_text())
-    assert sim["source"] == "simulated" and meas["source"] == "measured"
-    assert sim["bpfo_hz"] == run_summary["bpfo_hz"]
-    assert sim["n_events"] == len(run_summary["events"])
-    assert meas["bpfo_hz"] == pytest.approx(bpfo, rel=1e-12)
-    assert meas["fs_hz"] == pytest.approx(20e3)
-    # Speeds differ: the ratio is reported and the measured comb sits at orders 1..5.
-    assert summary["speed_ratio"][1] == pytest.approx(20.0 / run_summary["shaft_hz"])
-    assert min(meas["bpfo_harmonic_ratios"]) > 3.0
-    assert summary["bpfo_comb_shown"][1] is True
-    # The kurtogram band holds the 3 kHz resonance.
-    assert meas["band_hz"][0] <= 3000.0 <= meas["band_hz"][1]
-
-
-def test_simulated_record_reads_the_run_folder(run_dir):
-    rec = read_run_record(run_dir)
-    run_summary = json.loads((run_dir / "summary.json").read_text())
-    assert rec.fs == pytest.approx(100e3)
-    assert rec.events_s == pytest.approx([e["exit_time_s"] for e in run_summary["events"]])
-    assert rec.frequencies.bpfo == pytest.approx(run_summary["bpfo_hz"], rel=1e-12)
-    an = analyse(rec)
-    assert an.events_s.size == 3
-    # Envelope spectrum normalised by its own median between 0.5 and 10.5 BPFO.
-    f = an.f_env
-    ref = (f >= 0.5 * rec.bpfo_hz) & (f <= 10.5 * rec.bpfo_hz)
-    assert np.median(an.env_norm[ref]) == pytest.approx(1.0)
-
-
-def test_cwru_outer_race_record(run_dir, cwru_dir, tmp_path):
-    mat = cwru_dir / "12k_Drive_End_OR007@6_0_130.mat"
-    res = _cli(str(run_dir), str(mat), "--fs", "12000", "--bearing", CWRU_BEARING,
-               "--out", str(tmp_path))  # fmt: skip
-    assert res.returncode == 0, res.stderr
-    meas = json.loads((tmp_path / "summary.json").read_text())["records"][1]
-    assert meas["bpfo_hz"] == pytest.approx(3.5848 * 1796 / 60, rel=1e-4)  # README ratio
-    assert meas["bpfo_harmonic_ratios"][0] > 10.0  # a clear outer-race comb
+def _record(x, fs, shaft_hz, events=None, label="given events") -> Record:
+    freqs = bearing_frequencies(GEOMETRY, shaft_hz)
+    return Record(
+        label="array record", source="simulated", x=x, fs=fs, shaft_hz=shaft_hz,
+        bpfo_hz=freqs.bpfo, unit="m/s^2", frequencies=freqs, events_s=events,
+        events_label=label,
+    )  # fmt: skip
 
 
 def test_measured_record_needs_a_speed(measured_csv):
@@ -115,30 +73,53 @@ def test_measured_record_needs_a_speed(measured_csv):
         measured_record(path, BearingGeometry(9, 7.94e-3, 39.04e-3))
 
 
-@pytest.mark.parametrize(
-    "args, words",
-    [
-        (["{missing}", "{csv}", "--rpm", "1200"], "not a folder"),
-        (["{empty}", "{csv}", "--rpm", "1200"], "summary.json"),
-        (["{run}", "{csv}", "--rpm", "1200", "--bearing", "n=9,d=7.94"], "--bearing"),
-        (["{run}", "{csv}", "--rpm", "-5"], "--rpm"),
-        (["{run}", "{csv}", "--rpm", "1200", "--fs", "0"], "--fs"),
-        (["{run}", "{missing}", "--rpm", "1200"], "not found"),
-        (["{run}", "{csv}"], "--rpm"),
-        (["{run}", "{csv}", "--rpm", "1200", "--sensor", "nowhere"], "nowhere"),
-        (["{run}"], "MEASURED_FILE"),
-    ],
-)
-def test_bad_input_one_line_exit_2(args, words, run_dir, measured_csv, tmp_path):
-    (tmp_path / "empty").mkdir()
-    values = {
-        "missing": str(tmp_path / "nope"),
-        "empty": str(tmp_path / "empty"),
-        "run": str(run_dir),
-        "csv": str(measured_csv[0]),
-    }
-    res = _cli(*[a.format(**values) for a in args], "--out", str(tmp_path / "o"))
-    assert res.returncode == 2, res.stderr
-    lines = res.stderr.strip().splitlines()
-    assert len(lines) == 1 and "Traceback" not in res.stderr
-    assert words in lines[0]
+def test_records_of_arrays_with_and_without_event_times(measured_csv, tmp_path):
+    fs, shaft_hz = 50e3, 15.0
+    bpfo = bearing_frequencies(GEOMETRY, shaft_hz).bpfo
+    x, strikes = _struck(fs, 1.0, bpfo, 0.02, seed=5)
+    given = _record(x, fs, shaft_hz, events=strikes, label="strikes (known)")
+    meas = measured_record(measured_csv[0], GEOMETRY, rpm=1200.0)
+    summary = compare_records([given, meas], tmp_path)
+    assert set(summary["figures"]) == FIGURES
+    assert json.loads((tmp_path / "summary.json").read_text()) == json.loads(json.dumps(summary))
+    first, second = summary["records"]
+    # given event times are used as they are; without them the bursts are found
+    assert first["n_events"] == strikes.size
+    assert "events: envelope bursts (strongest per BPFO period)" in second["notes"]
+    assert first["bpfo_hz"] == pytest.approx(bpfo) and first["fs_hz"] == fs
+    assert summary["speed_ratio"][1] == pytest.approx(20.0 / shaft_hz)
+    assert summary["bpfo_comb_shown"] == [True, True]
+    an = analyse(given)
+    assert an.events_label == "strikes (known)"
+    assert an.events_s == pytest.approx(strikes)
+    lines = summary_lines(summary)
+    assert lines[0].startswith("array record: 50000 Hz")
+
+
+def test_no_empty_legend_when_the_first_event_precedes_the_window(tmp_path):
+    """The trace window starts a quarter period before the first event that leaves room
+    for it; an event earlier than that is not drawn and must not take the legend's label
+    with it (matplotlib: 'No artists with labels found to put in legend')."""
+    fs, shaft_hz = 50e3, 15.0
+    bpfo = bearing_frequencies(GEOMETRY, shaft_hz).bpfo
+    x, strikes = _struck(fs, 0.5, bpfo, 0.1 / bpfo, seed=7)
+    rec = _record(x, fs, shaft_hz, events=strikes)
+    assert strikes[0] < 0.25 / bpfo  # the first event is outside the window
+    an = analyse(rec)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        written = compare_figures([rec, rec], [an, an], tmp_path)
+    assert "compare_time.png" in written
+
+
+def test_diagnostics_compare_points_to_the_simulator_command(tmp_path):
+    env = dict(os.environ, PYTHONPATH=str(ROOT), MPLBACKEND="Agg")
+    for args in (["runs/x", "rig.csv", "--fs", "12000"], []):
+        res = subprocess.run(
+            [sys.executable, "-m", "diagnostics", "compare", *args],
+            capture_output=True, text=True, env=env, cwd=tmp_path, timeout=120,
+        )  # fmt: skip
+        assert res.returncode == 2
+        lines = res.stderr.strip().splitlines()
+        assert len(lines) == 1 and "python -m taichi_bearing compare" in lines[0]
+        assert not list(tmp_path.iterdir())  # nothing written

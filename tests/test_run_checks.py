@@ -140,3 +140,27 @@ def test_exit_burst_is_judged_on_the_median_passage():
     floor = exit_burst_check([_passage(300.0, entry_peak=100.0, floor_peak=200.0)])
     assert floor["value"] == pytest.approx(1.5) and floor["value"] < EXIT_BURST_LIMIT
     assert exit_burst_check([])["passed"] is None
+
+
+def test_checks_are_post_processing_without_mesh_solver_or_taichi():
+    """run_checks reads run-folder data only: importing it loads no mesher, no solver, no
+    static reference and no Taichi (the reference is solved during the run)."""
+    import os
+    import subprocess
+    import sys
+    from pathlib import Path
+
+    root = Path(__file__).resolve().parents[1]
+    script = (
+        "import sys, taichi_bearing.checks, taichi_bearing.run_folder\n"
+        "bad = sorted(m for m in sys.modules if m.split('.')[0] == 'taichi' or m.startswith(("
+        "'taichi_bearing.mesh', 'taichi_bearing.solver', 'taichi_bearing.static_reference', "
+        "'taichi_bearing.starter')))\n"
+        "print(','.join(bad))\n"
+    )
+    env = dict(os.environ, PYTHONPATH=str(root))
+    res = subprocess.run(
+        [sys.executable, "-c", script], capture_output=True, text=True, env=env, timeout=120
+    )
+    assert res.returncode == 0, res.stderr
+    assert res.stdout.strip() == ""

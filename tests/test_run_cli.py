@@ -1,10 +1,12 @@
 """`python -m taichi_bearing CASE.yaml`: bad input exits 2 with one line; Ctrl-C keeps
-valid histories of everything up to that point."""
+valid histories of everything up to that point; after kill -9 the run folder is still one
+(`post` checks what was recorded and says partial, `--resume` finishes it)."""
 
 from __future__ import annotations
 
 import json
 import os
+import shutil
 import signal
 import subprocess
 import sys
@@ -62,6 +64,15 @@ def test_bad_input_is_one_line_and_exit_2(args, names, tmp_path):
     assert not (tmp_path / "out" / "histories.parquet").exists()
 
 
+def _wait_for_checkpoint(proc: subprocess.Popen, out: Path, timeout: float = 240) -> None:
+    """Until the run has written its first checkpoint (it is then in the transient)."""
+    deadline = time.monotonic() + timeout
+    while not list((out / "checkpoints").glob("checkpoint_*.npz")):
+        assert proc.poll() is None, proc.stderr.read()
+        assert time.monotonic() < deadline, "no checkpoint in time"
+        time.sleep(0.05)
+
+
 def test_unknown_arch_is_rejected_by_the_parser(tmp_path):
     proc = _run(COARSE, "--arch", "tpu", "--out", str(tmp_path))
     assert proc.returncode == 2 and "--arch" in proc.stderr
@@ -77,11 +88,7 @@ def test_ctrl_c_leaves_valid_histories(tmp_path):
     )  # fmt: skip
     try:
         # wait for the first checkpoint (0.5 ms into the transient), then press Ctrl-C
-        deadline = time.monotonic() + 240
-        while not list((out / "checkpoints").glob("checkpoint_*.npz")):
-            assert proc.poll() is None, proc.stderr.read()
-            assert time.monotonic() < deadline, "no checkpoint in time"
-            time.sleep(0.2)
+        _wait_for_checkpoint(proc, out)
         proc.send_signal(signal.SIGINT)
         _, err = proc.communicate(timeout=120)
     finally:
@@ -101,3 +108,112 @@ def test_ctrl_c_leaves_valid_histories(tmp_path):
     summary = json.loads((out / "summary.json").read_text())
     assert summary["status"] == "interrupted"
     assert summary["n_steps"] > 0
+
+
+# A run small enough to kill, inspect and resume in a test: the coarse case on a 3 mm
+# mesh (about 4,000 elements), 2 ms, a checkpoint every 0.2 ms.
+TINY = [COARSE, "--set", "mesh.surface_size_mm=3", "--set", "mesh.max_size_mm=6",
+        "--set", "run.duration_ms=2", "--set", "run.checkpoint_interval_ms=0.2",
+        "--set", "run.frame_interval_ms=1", "--threads", "1", "--quiet"]  # fmt: skip
+
+
+@pytest.fixture(scope="module")
+def killed_run(tmp_path_factory):
+    """A tiny run killed with SIGKILL during the transient, after its first checkpoint;
+    then ``post`` on what it left, then ``--resume``. Returns what each step left."""
+    out = tmp_path_factory.mktemp("killed") / "run"
+    proc = subprocess.Popen(
+        [sys.executable, "-m", "taichi_bearing", *TINY, "--out", str(out)],
+        env=_env(), cwd=ROOT, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+    )  # fmt: skip
+    try:
+        _wait_for_checkpoint(proc, out)
+        proc.kill()  # SIGKILL: nothing runs on the way out
+        proc.communicate(timeout=60)
+    finally:
+        if proc.poll() is None:
+            proc.kill()
+    left = {
+        "returncode": proc.returncode,
+        "files": sorted(p.name for p in out.iterdir()),
+        "summary": json.loads((out / "summary.json").read_text()),
+    }
+    left["post"] = _run("post", str(out))
+    left["post_summary"] = json.loads((out / "summary.json").read_text())
+    left["report"] = (out / "report.md").read_text()
+    left["parts_after_post"] = (out / "histories.parts").is_dir()
+    left["resume"] = _run(*TINY, "--out", str(out), "--resume", "--no-post")
+    left["resumed_summary"] = json.loads((out / "summary.json").read_text())
+    return out, left
+
+
+def test_kill_9_leaves_a_run_folder_with_the_histories_in_parts(killed_run):
+    _, left = killed_run
+    assert left["returncode"] == -signal.SIGKILL
+    assert "histories.parquet" not in left["files"]
+    assert "histories.parts" in left["files"]
+    # written before the transient: what post needs
+    for name in ("case.yaml", "mesh_info.json", "preload.json", "summary.json"):
+        assert name in left["files"]
+    assert left["summary"]["status"] == "running"
+    assert "reference_roller_forces_N" in left["summary"]["preload"]
+
+
+def test_post_checks_a_killed_run_on_what_it_recorded_and_says_partial(killed_run):
+    _, left = killed_run
+    post = left["post"]
+    assert post.returncode == 0, post.stderr
+    assert "partial" in post.stdout
+    summary = left["post_summary"]
+    partial = summary["partial"]
+    assert partial["status"] == "running"
+    assert partial["histories"] == "histories.parts/ only"
+    # killed after the first checkpoint (0.2 ms), before the end (2 ms)
+    assert 0.2e-3 - 1e-9 <= partial["recorded_until_s"] < 2e-3
+    assert partial["duration_s"] == pytest.approx(2e-3)
+    assert summary["status"] == "running"  # post does not pretend the run finished
+    assert summary["checks"]["energy_balance"]["value"] is not None
+    assert "Partial run (status running)" in left["report"]
+    assert left["parts_after_post"]  # post reads the parts, it does not merge them
+
+
+def test_resume_after_kill_9_and_post_finishes_the_run(killed_run):
+    out, left = killed_run
+    resume = left["resume"]
+    assert resume.returncode == 0, resume.stderr
+    summary = left["resumed_summary"]
+    assert summary["status"] == "finished" and "partial" not in summary
+    assert (out / "histories.parquet").is_file()
+    assert not (out / "histories.parts").exists()
+    t = read_histories(out)["time_s"].to_numpy()
+    assert len(t) == 200 and t[0] == pytest.approx(1e-5)
+    assert np.allclose(np.diff(t), 1e-5)
+
+
+def test_post_of_a_folder_without_the_reference_names_it_and_remesh_restores_it(
+    killed_run, tmp_path
+):
+    """A run folder from before runs recorded mesh_info.json and the flexible-ring
+    reference: one line naming what is missing; ``--remesh`` gives the same checks."""
+    out, left = killed_run
+    old = tmp_path / "old"
+    shutil.copytree(out, old)
+    (old / "mesh_info.json").unlink()
+    pre = json.loads((old / "preload.json").read_text())
+    del pre["reference_roller_forces_N"], pre["rolling_rates_rad_s"]
+    (old / "preload.json").write_text(json.dumps(pre))
+    refused = _run("post", str(old), "--no-report")
+    assert refused.returncode == 2
+    lines = refused.stderr.strip().splitlines()
+    assert len(lines) == 1 and "Traceback" not in refused.stderr
+    for what in ("mesh_info.json", "reference_roller_forces_N", "--remesh"):
+        assert what in lines[0]
+    redone = _run("post", str(old), "--no-report", "--remesh")
+    assert redone.returncode == 0, redone.stderr
+    summary = json.loads((old / "summary.json").read_text())
+    assert summary["checks"] == left["resumed_summary"]["checks"]
+    restored = json.loads((old / "preload.json").read_text())
+    assert restored["computed_after_the_run"]["keys"] == [
+        "reference_roller_forces_N",
+        "rolling_rates_rad_s",
+    ]

@@ -12,8 +12,9 @@ What is on disk at any moment reads back as: the merged file, followed by the pa
 later than its last time. :func:`read_histories` applies exactly that rule, so it reads a
 finished run, a crashed one and a crashed resumed one alike.
 
-Column names follow design.md section 7: ``time_s``; ``<sensor>_ux|uy|vx|vy|ax|ay``;
-``roller<j>_<race>_fx|fy|fn|ft``; ``energy_<kind>``.
+File and column names are those of :mod:`taichi_bearing.run_folder` (re-exported here for
+the writers): ``time_s``; ``<sensor>_ux|uy|vx|vy|ax|ay``; ``roller<j>_<race>_fx|fy|fn|ft``;
+``energy_<kind>``.
 """
 
 from __future__ import annotations
@@ -21,7 +22,7 @@ from __future__ import annotations
 import os
 import shutil
 import time
-from collections.abc import Iterable, Sequence
+from collections.abc import Sequence
 from pathlib import Path
 
 import numpy as np
@@ -30,12 +31,25 @@ import pyarrow as pa
 import pyarrow.parquet as pq
 
 from diagnostics.files import atomic_path
+from taichi_bearing.run_folder import (
+    ENERGY_KINDS,
+    HISTORIES_FILE,
+    RACES,
+    ROLLER_FORCE_COMPONENTS,
+    SENSOR_QUANTITIES,
+    TIME_COLUMN,
+    energy_columns,
+    history_columns,
+    roller_force_columns,
+    sensor_columns,
+)
 
 __all__ = [
     "ENERGY_KINDS",
     "RACES",
     "SENSOR_QUANTITIES",
     "ROLLER_FORCE_COMPONENTS",
+    "TIME_COLUMN",
     "HistoryWriter",
     "energy_columns",
     "history_columns",
@@ -44,67 +58,8 @@ __all__ = [
     "sensor_columns",
 ]
 
-TIME_COLUMN = "time_s"
-SENSOR_QUANTITIES = ("ux", "uy", "vx", "vy", "ax", "ay")
-RACES = ("outer", "inner")
-ROLLER_FORCE_COMPONENTS = ("fx", "fy", "fn", "ft")
-ENERGY_KINDS = ("kinetic", "internal", "hourglass", "contact", "damping", "external_work")
-
-_MERGED_NAME = "histories.parquet"
+_MERGED_NAME = HISTORIES_FILE
 _PART_GLOB = "part-*.parquet"
-
-
-# --------------------------------------------------------------------------- column names
-
-
-def sensor_columns(names: Iterable[str]) -> list[str]:
-    """Columns of the sensor records: ``<sensor>_ux, _uy, _vx, _vy, _ax, _ay`` per sensor.
-
-    Parameters
-    ----------
-    names : iterable of str
-        Sensor names, in the order their values are appended.
-
-    Returns
-    -------
-    list of str
-    """
-    return [f"{name}_{q}" for name in names for q in SENSOR_QUANTITIES]
-
-
-def roller_force_columns(n_rollers: int, races: Sequence[str] = RACES) -> list[str]:
-    """Columns of the per-roller contact forces: ``roller<j>_<race>_fx|fy|fn|ft``.
-
-    Ordered roller by roller (j from 0), then race (``outer``, ``inner``), then component
-    (``fx, fy, fn, ft``).
-    """
-    if int(n_rollers) != n_rollers or n_rollers < 0:
-        raise ValueError(f"n_rollers must be a non-negative integer, got {n_rollers!r}")
-    return [
-        f"roller{j}_{race}_{c}"
-        for j in range(int(n_rollers))
-        for race in races
-        for c in ROLLER_FORCE_COMPONENTS
-    ]
-
-
-def energy_columns(kinds: Iterable[str] = ENERGY_KINDS) -> list[str]:
-    """Columns of the energies: ``energy_<kind>`` (default kinds: :data:`ENERGY_KINDS`)."""
-    return [f"energy_{k}" for k in kinds]
-
-
-def history_columns(
-    sensor_names: Iterable[str] = (),
-    n_rollers: int = 0,
-    energy_kinds: Iterable[str] = ENERGY_KINDS,
-) -> list[str]:
-    """All columns of a run in the standard order: time, sensors, roller forces, energies."""
-    return [
-        TIME_COLUMN,
-        *sensor_columns(sensor_names),
-        *roller_force_columns(n_rollers),
-        *energy_columns(energy_kinds),
-    ]
 
 
 # --------------------------------------------------------------------------- paths

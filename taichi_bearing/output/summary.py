@@ -1,4 +1,7 @@
-"""``summary.json`` of a run: the numbers design.md section 7 requires, in SI units."""
+"""``summary.json`` of a run: the numbers design.md section 7 requires, in SI units.
+
+The file name and the required keys are those of :mod:`taichi_bearing.run_folder`.
+"""
 
 from __future__ import annotations
 
@@ -8,38 +11,19 @@ from collections.abc import Mapping
 from pathlib import Path
 
 from diagnostics.files import write_json
+from taichi_bearing.run_folder import REQUIRED_SUMMARY_KEYS, SUMMARY_FILE
 
 __all__ = ["missing_summary_keys", "required_summary_keys", "write_summary"]
-
-_REQUIRED = (
-    "n_elements",
-    "n_nodes",
-    "dt_s",
-    "n_steps",
-    "wall_time_s",
-    "element_steps_per_s",
-    "energy_balance_error",
-    "static_roller_forces_N",
-    "analytical_roller_forces_N",
-    "cage_speed_rel_error",
-    "bpfo_hz",
-    "restress_times_s",
-    "entry_times_s",
-    "noise_frequencies_predicted_hz",
-    "noise_frequencies_measured_hz",
-    "defect_size_estimate_m",
-    "defect_size_true_m",
-)
 
 
 def required_summary_keys() -> tuple[str, ...]:
     """The keys every ``summary.json`` must have (design.md section 7)."""
-    return _REQUIRED
+    return REQUIRED_SUMMARY_KEYS
 
 
 def missing_summary_keys(summary: Mapping) -> list[str]:
     """The required keys absent from ``summary``, in the order of :func:`required_summary_keys`."""
-    return [k for k in _REQUIRED if k not in summary]
+    return [k for k in REQUIRED_SUMMARY_KEYS if k not in summary]
 
 
 def write_summary(path: str | os.PathLike, summary: Mapping, strict: bool = False) -> Path:
@@ -68,7 +52,7 @@ def write_summary(path: str | os.PathLike, summary: Mapping, strict: bool = Fals
     """
     path = Path(path)
     if path.suffix != ".json":
-        path = path / "summary.json"
+        path = path / SUMMARY_FILE
     data = dict(summary)
     missing = missing_summary_keys(data)
     if missing:

@@ -1,7 +1,7 @@
 """``write_report(run_dir)``: ``report.md`` and ``report.html`` of a run folder.
 
-Every number comes from the run folder: ``summary.json``, ``case.yaml``,
-``mesh_statistics.json`` and ``figures/figures.json`` (written with the figures by
+Every number comes from the run folder (:mod:`taichi_bearing.run_folder`): ``summary.json``,
+``case.yaml``, ``mesh_statistics.json`` and ``figures/figures.json`` (written with the figures by
 :func:`taichi_bearing.post.run_figures.make_run_figures`, which is run first if the figures
 are missing). The report is built once as a list of blocks (headings, paragraphs, tables,
 figures) and rendered twice: Markdown with linked pictures, and a self-contained HTML page
@@ -12,17 +12,24 @@ from __future__ import annotations
 
 import base64
 import html
-import json
 import math
 import os
 import re
 from dataclasses import dataclass
 from pathlib import Path
 
-import yaml
-
 from diagnostics.files import atomic_path
-from taichi_bearing.post.run_data import passage_events
+from taichi_bearing.run_folder import (
+    FIGURES_DIR,
+    FIGURES_INDEX_FILE,
+    MESH_STATISTICS_FILE,
+    REPORT_HTML_FILE,
+    REPORT_MD_FILE,
+    SUMMARY_FILE,
+    passage_events,
+    read_case_dict,
+    read_json,
+)
 
 __all__ = ["SECTIONS", "fmt", "report_blocks", "write_report"]
 
@@ -130,9 +137,9 @@ _MESH_UNITS = {
 
 def _mesh(summary: dict, run_dir: Path) -> list:
     stats = summary.get("mesh_statistics") or {}
-    path = run_dir / "mesh_statistics.json"
+    path = run_dir / MESH_STATISTICS_FILE
     if not stats and path.is_file():
-        stats = json.loads(path.read_text())
+        stats = read_json(path)
     rows = [
         ["elements", fmt(summary.get("n_elements"))],
         ["nodes", fmt(summary.get("n_nodes"))],
@@ -237,7 +244,7 @@ def _figure(figs: dict, run_dir: Path, name: str) -> list:
     entry = figs.get(name)
     if not entry:
         return [Para(f"figure {name} was not drawn.")]
-    return [Image(run_dir / "figures" / entry["file"], entry.get("caption", ""))]
+    return [Image(run_dir / FIGURES_DIR / entry["file"], entry.get("caption", ""))]
 
 
 def _passages(summary: dict, figs: dict, run_dir: Path) -> list:
@@ -352,18 +359,32 @@ def _defect(summary: dict) -> list:
     ]
 
 
+def _partial_text(partial: dict) -> str:
+    """The report's warning for a run that did not finish (``summary["partial"]``)."""
+    until, duration = partial.get("recorded_until_s"), partial.get("duration_s")
+    span = (
+        f"{fmt(1e3 * until)} ms of {fmt(1e3 * duration)} ms"
+        if until is not None and duration is not None
+        else "part of the run"
+    )
+    return (
+        f"Partial run (status {partial.get('status') or 'unknown'}): {span} recorded "
+        f"({partial.get('histories', '-')}); {partial.get('note', '')}. Checks, figures and "
+        "numbers below are of what was recorded."
+    )
+
+
 def report_blocks(run_dir: str | os.PathLike) -> list:
     """The report as a list of blocks (Heading, Para, Table, Image), in order."""
     run_dir = Path(run_dir)
-    summary = json.loads((run_dir / "summary.json").read_text())
-    case_path = run_dir / "case.yaml"
-    case = (yaml.safe_load(case_path.read_text()) or {}) if case_path.is_file() else {}
-    figs_path = run_dir / "figures" / "figures.json"
+    summary = read_json(run_dir / SUMMARY_FILE)
+    case = read_case_dict(run_dir)
+    figs_path = run_dir / FIGURES_DIR / FIGURES_INDEX_FILE
     if not figs_path.is_file():
         from taichi_bearing.post.run_figures import make_run_figures
 
         make_run_figures(run_dir)
-    meta = json.loads(figs_path.read_text())
+    meta = read_json(figs_path)
     figs = meta.get("figures", {})
     name = summary.get("case_name") or case.get("name") or run_dir.name
     blocks: list = [
@@ -374,6 +395,9 @@ def report_blocks(run_dir: str | os.PathLike) -> list:
             "Every number below is read from the run folder."
         ),
     ]
+    partial = summary.get("partial")
+    if partial:
+        blocks.append(Para(_partial_text(partial)))
     if summary.get("missing_keys"):
         blocks.append(Para(f"summary.json lacks: {', '.join(summary['missing_keys'])}."))
     sections = {
@@ -470,9 +494,9 @@ def write_report(run_dir: str | os.PathLike) -> Path:
     """
     run_dir = Path(run_dir)
     blocks = report_blocks(run_dir)
-    md_path = run_dir / "report.md"
+    md_path = run_dir / REPORT_MD_FILE
     with atomic_path(md_path) as tmp:
         tmp.write_text(to_markdown(blocks, run_dir), encoding="utf-8")
-    with atomic_path(run_dir / "report.html") as tmp:
+    with atomic_path(run_dir / REPORT_HTML_FILE) as tmp:
         tmp.write_text(to_html(blocks), encoding="utf-8")
     return md_path

@@ -31,7 +31,19 @@ from diagnostics.resolution import (
     choose_sk_windows,
     third_octave_f_min,
 )
-from taichi_bearing.post.run_data import RunData, load_run, passage_events, sensor_acceleration
+from taichi_bearing.run_folder import (
+    FIGURES_DIR,
+    FIGURES_INDEX_FILE,
+    FRAMES_DIR,
+    PVD_FILE,
+    RACES,
+    TIME_COLUMN,
+    RunData,
+    load_run,
+    passage_events,
+    roller_force_column,
+    sensor_acceleration,
+)
 
 __all__ = [
     "FIGURE_NAMES",
@@ -214,22 +226,22 @@ def _contact_forces(run: RunData) -> tuple[Figure, str, dict]:
     rollers = [e["roller"] for e in ev if e["roller"] is not None]
     rollers = list(dict.fromkeys(int(r) for r in rollers))
     hist = run.histories
-    t_ms = 1e3 * hist["time_s"].to_numpy(dtype=float)
+    t_ms = 1e3 * hist[TIME_COLUMN].to_numpy(dtype=float)
     named = bool(rollers)
     if not named:
         # No passage recorded: show the rollers whose outer force varies most.
         ranges = []
         for j in range(run.rollers):
-            col = f"roller{j}_outer_fn"
+            col = roller_force_column(j, "outer", "fn")
             if col in hist:
                 ranges.append((float(np.ptp(hist[col].to_numpy())), j))
         rollers = sorted(j for _, j in sorted(ranges, reverse=True)[:3])
     fig = Figure(figsize=(9.0, 6.5), layout="constrained")
     axes = fig.subplots(2, 1, sharex=True)
     values: dict = {}
-    for ax, race in zip(axes, ("outer", "inner"), strict=True):
+    for ax, race in zip(axes, RACES, strict=True):
         for i, j in enumerate(rollers):
-            col = f"roller{j}_{race}_fn"
+            col = roller_force_column(j, race, "fn")
             if col not in hist:
                 continue
             colour = _ROLLER_COLOURS[i % len(_ROLLER_COLOURS)]
@@ -460,12 +472,12 @@ def _deformed(run: RunData, path: Path) -> tuple[str, dict]:
     from taichi_bearing.output.vtk import read_pvd
     from taichi_bearing.post.deformed_render import render_spall_frame
 
-    pvd = run.run_dir / "frames" / "frames.pvd"
+    pvd = run.run_dir / FRAMES_DIR / PVD_FILE
     if not pvd.is_file():
-        raise FileNotFoundError("no frames/frames.pvd (output.frames off?)")
+        raise FileNotFoundError(f"no {FRAMES_DIR}/{PVD_FILE} (output.frames off?)")
     frames = read_pvd(pvd)
     if not frames:
-        raise FileNotFoundError("frames/frames.pvd lists no frame")
+        raise FileNotFoundError(f"{FRAMES_DIR}/{PVD_FILE} lists no frame")
     time, name = frames[-1]
     point, edges, half, text = _spall_view(run)
     title = f"t = {1e3 * time:.3g} ms, {text}"
@@ -563,7 +575,7 @@ def make_run_figures(run_dir: str | os.PathLike, sensor: str | None = None) -> d
     Parameters
     ----------
     run_dir : str or path-like
-        A run folder (notes/rundir.md): ``summary.json``, ``histories.parquet``,
+        A run folder (:mod:`taichi_bearing.run_folder`): ``summary.json``, the histories,
         ``case.yaml`` and ``frames/``.
     sensor : str, optional
         Sensor whose acceleration is analysed; default the first of ``sensor_names``.
@@ -576,7 +588,7 @@ def make_run_figures(run_dir: str | os.PathLike, sensor: str | None = None) -> d
         short, no frames) gets a figure saying why, and its reason under ``"error"``.
     """
     run = load_run(run_dir)
-    out = run.run_dir / "figures"
+    out = run.run_dir / FIGURES_DIR
     out.mkdir(parents=True, exist_ok=True)
     builders = _builders(run, sensor)
     x, label = sensor_acceleration(run, sensor)
@@ -615,5 +627,5 @@ def make_run_figures(run_dir: str | os.PathLike, sensor: str | None = None) -> d
             "caption": f"not drawn: {exc}",
         }
     paths["deformed_spall"] = path
-    write_json(out / "figures.json", meta)
+    write_json(out / FIGURES_INDEX_FILE, meta)
     return paths
