@@ -131,17 +131,23 @@ def add_analyze_arguments(parser: argparse.ArgumentParser) -> None:
 
 def _markers(d: Diagnosis) -> dict[str, float]:
     """Comb fundamentals to mark: where a family was detected, the frequency found (slip
-    included), else the kinematic one."""
+    included) with the comb it was found by, else the kinematic one."""
     labels = {"outer": "BPFO", "inner": "BPFI", "ball": "2xBSF"}
     out = {}
     for family, label in labels.items():
         s = d.families.get(family)
         if s is None:
             continue
-        out[label if not s.detected else f"{label} (found)"] = (
-            s.found_hz if s.detected else s.expected_hz
-        )
+        if s.detected:
+            out[f"{s.comb or label} (found)"] = s.found_hz
+        else:
+            out[label] = s.expected_hz if s.comb in ("", label) else _kinematic(d, family)
     return out
+
+
+def _kinematic(d: Diagnosis, family: str) -> float:
+    f = d.frequencies
+    return {"outer": f.bpfo, "inner": f.bpfi, "ball": 2.0 * f.bsf}[family]
 
 
 def save_figure(fig, path: Path) -> str:

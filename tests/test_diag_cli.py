@@ -126,3 +126,18 @@ def test_parse_bearing_units():
     assert g.roller_diameter == pytest.approx(7.94e-3, rel=1e-3)
     assert g.pitch_diameter == pytest.approx(39.04e-3, rel=1e-3)
     assert g.contact_angle_deg == 15.0
+
+
+def test_markers_name_the_comb_that_found_the_fault():
+    from test_diag_diagnose import gated_ball_impacts
+
+    from diagnostics.cli import _markers
+    from diagnostics.diagnose import diagnose
+    from diagnostics.frequencies import BearingGeometry, bearing_frequencies
+
+    geometry = BearingGeometry(9, 7.94e-3, 39.04e-3)
+    freqs = bearing_frequencies(geometry, 29.95)
+    d = diagnose(gated_ball_impacts(12000.0, 5.0, jitter=0.08, seed=3), 12000.0, geometry, 29.95)
+    marks = _markers(d)
+    assert marks["FTF (found)"] == pytest.approx(freqs.ftf, rel=0.02)
+    assert marks["BPFO"] == pytest.approx(freqs.bpfo) and marks["BPFI"] == pytest.approx(freqs.bpfi)
