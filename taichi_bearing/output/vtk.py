@@ -19,11 +19,12 @@ import numpy as np
 
 from diagnostics.files import atomic_path
 from taichi_bearing.mesh.types import Mesh
+from taichi_bearing.run_folder import FRAMES_DIR, PVD_FILE
 
 __all__ = ["FrameWriter", "mesh_to_meshio", "read_pvd", "write_vtu"]
 
 _FRAME = re.compile(r"^frame_(\d+)\.vtu$")
-PVD_NAME = "frames.pvd"
+PVD_NAME = PVD_FILE  # the run folder's name (taichi_bearing.run_folder)
 
 
 def _as_vector3(name: str, a: np.ndarray) -> np.ndarray:
@@ -138,7 +139,7 @@ class FrameWriter:
     def __init__(
         self, folder: str | os.PathLike, mesh: Mesh, resume_time: float | None = None
     ) -> None:
-        self.folder = Path(folder) / "frames"
+        self.folder = Path(folder) / FRAMES_DIR
         self.pvd_path = self.folder / PVD_NAME
         self.mesh = mesh
         self.folder.mkdir(parents=True, exist_ok=True)
