@@ -1,4 +1,5 @@
-"""A small run folder (rundir contract) built from a synthetic signal with known content.
+"""A small run folder (the layout of taichi_bearing.run_folder) built from a synthetic
+signal with known content.
 
 Used by the post-processing and compare tests: the histories, frames and summary are
 written with the project's own writers, so the readers see exactly what a run writes,
