@@ -7,9 +7,10 @@ Usage::
 
 Pairs: every roller against the outer and the inner raceway (2 Z pairs, two-pass). The
 bodies are given the rigid velocities of ideal rolling so that the grid is rebuilt as it
-would be in a run. Columns: ms per step for the element/node kernels alone (the baseline,
-``Model.advance`` without contributors, per-step launches), for the contact alone
-(``add_forces``), for the rigid cage alone, and for a full step with both; their share of
+would be in a run. Columns: ms per step for the element/node phases alone (the baseline,
+a model without contributors, one launch per step), for the contact alone (its own
+launches, ``add_forces``), for the rigid cage alone, and for a full step with both (as a
+run steps it); their share of
 the full step; grid rebuilds. A row with ``smoothing`` off (contact against the chords,
 the polygon: the baseline of the smooth arc contact, which is the case's default). A last
 row forces a grid rebuild every step (the worst case of the search). Best of 5 repeats
@@ -70,7 +71,13 @@ def main() -> int:
     for j, c in enumerate(info["roller_centres"]):
         v = 0.4 * w * np.array([-c[1], c[0]])
         vel.append(RigidVelocity(f"roller{j}", omega=-3.0 * w, center=tuple(c), velocity=tuple(v)))
-    model = Model(mesh, case.material, thickness=case.bearing.roller_length, initial_velocities=vel)
+
+    def bearing_model() -> Model:
+        return Model(
+            mesh, case.material, thickness=case.bearing.roller_length, initial_velocities=vel
+        )
+
+    model = bearing_model()
     pairs = []
     for j in range(z):
         pairs.append(ContactPair(f"roller{j}_outer", f"roller{j}", "outer_raceway"))
@@ -85,7 +92,8 @@ def main() -> int:
         f"dt {model.dt:.3g} s"
     )
 
-    base = _time(lambda n: model.advance(n, serial=False), args.steps)
+    bare = bearing_model()  # no contributors: the element and node phases alone
+    base = _time(lambda n: bare.advance(n, mode="parallel"), args.steps)
     contact_only = _time(lambda n: [contact.add_forces(model, 0.0) for _ in range(n)], args.steps)
     flip = dataclasses.replace(params, smoothing=not params.smoothing)
     other = PenaltyContact(model, pairs, flip)
@@ -93,8 +101,8 @@ def main() -> int:
     model.f_extra.fill(0)
     cage = RigidCage.from_mesh(model, params, case.cage.mass, case.cage.pocket_clearance)
     cage_only = _time(lambda n: [cage.add_forces(model, 0.0) for _ in range(n)], args.steps)
-    model.contributors.append(contact)
-    model.contributors.append(cage)
+    model.add_contributor(contact)
+    model.add_contributor(cage)
     r0 = contact.rebuilds
     full = _time(lambda n: model.advance(n), args.steps)
     rebuilds = contact.rebuilds - r0

@@ -2,14 +2,14 @@
 
 Runs the case (default ``cases/line_spall.yaml``) through mesh and preload, then a SHORT
 transient of ``--duration-ms`` (default 0.3 ms) with contact and every recorder, as the run
-does it (contact and cage fused into the model's step kernels; on several CPU threads many
+does it (contact and cage inside the model's step kernels; on several CPU threads many
 steps per launch by team stepping), and extrapolates it to the case's full duration
 (labelled as such). In the same process, from the same state: the transient again with
-one launch of parallel loops per step (the path before team stepping), with each
-contributor's own kernel, timed (where the time goes: element
-and node kernels, contact, cage), and the baseline, the model stepped without contact
-(element forces, nodes, loads only). Recording: sensor sums read-out, energies, recorders,
-history writing (everything in the time loop outside the steps).
+one launch of parallel loops per step (``mode="parallel"``), and the baseline, a model of
+the same mesh without contact stepped as many steps (element forces, nodes, loads only).
+Recording: sensor sums read-out, energies, recorders, history writing (everything in the
+time loop outside the steps). To compare with another version of the code, side by side,
+see ``bench_versions.py``.
 
 Usage::
 
@@ -28,22 +28,6 @@ from taichi_bearing.case import load_case
 from taichi_bearing.simulate import build_model, preload, stage_mesh
 
 
-class _Timed:
-    """Wraps a force contributor and adds up the wall time of its ``add_forces``."""
-
-    def __init__(self, inner) -> None:
-        self.inner = inner
-        self.seconds = 0.0
-
-    def add_forces(self, model, t) -> None:
-        t0 = time.perf_counter()
-        self.inner.add_forces(model, t)
-        self.seconds += time.perf_counter() - t0
-
-    def energy(self, model=None) -> float:
-        return self.inner.energy(model)
-
-
 def main() -> None:
     p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     p.add_argument("case", nargs="?", default="cases/line_spall.yaml")
@@ -52,8 +36,7 @@ def main() -> None:
     p.add_argument("--set", dest="overrides", action="append", default=[])
     args = p.parse_args()
 
-    from taichi_bearing.solver import RunConfig, run_transient
-    from taichi_bearing.solver.engine import steps_per_sample
+    from taichi_bearing.solver import Model, RunConfig, run_transient
 
     case = load_case(args.case, args.overrides)
     rows = []
@@ -73,20 +56,17 @@ def main() -> None:
 
     duration = args.duration_ms * 1e-3
     cfg = RunConfig(duration=duration, sample_rate=case.run.sample_rate, progress=False)
-    originals = list(model.contributors)
     advance = model.advance
     step_s = [0.0]
 
-    def timed_advance(*a, **k):
-        t = time.perf_counter()
-        advance(*a, **k)
-        step_s[0] += time.perf_counter() - t
+    def transient(mode: str | None):
+        """The short transient from the preloaded state: wall time, steps, time in steps."""
 
-    def transient(timed: list | None):
-        """The short transient from the preloaded state: wall time, steps, time in steps.
-        ``timed``: contributors wrapped to time their ``add_forces`` (which also takes
-        them out of the model's fused step kernels)."""
-        model.contributors[:] = timed if timed is not None else originals
+        def timed_advance(*a, **k):
+            t = time.perf_counter()
+            advance(*a, **{**k, "mode": mode})
+            step_s[0] += time.perf_counter() - t
+
         model.advance = timed_advance
         with tempfile.TemporaryDirectory() as tmp:
             # compile outside the timing: one short run first
@@ -97,37 +77,35 @@ def main() -> None:
                 Path(tmp), recorders=bm.recorders,
             )  # fmt: skip
             model.load_state_arrays(state)
-            for c in timed or ():
-                c.seconds = 0.0
             step_s[0] = 0.0
             t0 = time.perf_counter()
             res = run_transient(model, cfg, Path(tmp), recorders=bm.recorders)
             wall = time.perf_counter() - t0
         model.advance = advance
-        model.contributors[:] = originals
         model.load_state_arrays(state)
         return res, wall, step_s[0]
 
-    # --- the run's own path: contact and cage fused into the step kernels
-    res, total, step_fused = transient(None)
+    # --- the run's own path, then one launch of parallel loops per step
+    res, total, step_run = transient(None)
     steps = res.steps
-    # --- the same with one launch of parallel loops per step (no team stepping)
-    model._team_size = lambda fused: 0  # shadows the method on this instance
-    _, total_per_step, _ = transient(None)
-    del model._team_size
-    # --- the same with each contributor's own kernel, timed
-    timed = [_Timed(c) for c in originals]
-    _, total_unfused, step_unfused = transient(timed)
-    contact_s = sum(c.seconds for c in timed)
+    _, total_per_step, _ = transient("parallel")
 
-    # --- baseline: the same model and state without contact
-    model.contributors[:] = []
-    model.load_state_arrays(state)
-    s, dt = steps_per_sample(model.dt_stable, case.run.sample_rate)
-    model.set_dt(dt)
-    model.advance(10)  # compile
+    # --- baseline: the same mesh, set-up and preloaded state, no contributors
+    bare = Model(
+        mesh,
+        bm.setup.material,
+        thickness=bm.setup.thickness,
+        constraints=bm.setup.constraints,
+        loads=bm.setup.loads,
+        damping=bm.setup.damping,
+        max_added_mass=case.run.max_added_mass,
+        time_step=case.run.time_step,
+    )
+    bare.load_state_arrays(state)
+    bare.set_dt(res.dt)
+    bare.advance(10)  # compile
     t0 = time.perf_counter()
-    model.advance(steps)  # as the run would step it
+    bare.advance(steps)  # as the run would step it
     base = time.perf_counter() - t0
 
     full_steps = round(case.run.duration / res.dt)
@@ -148,20 +126,11 @@ def main() -> None:
           f"{ne * steps / total_per_step:13.3g}")  # fmt: skip
     print(f"{'baseline: no contact, same steps':40s} {base:10.2f} {steps:9d} "
           f"{ne * steps / base:13.3g}")  # fmt: skip
-    print(f"{'transient, contributors unfused (timed)':40s} {total_unfused:10.2f} {steps:9d} "
-          f"{ne * steps / total_unfused:13.3g}")  # fmt: skip
     print()
-    print(f"fused / unfused wall time: {total / total_unfused:.2f}")
     print(f"run's path / one launch per step: {total / total_per_step:.2f}")
-    print(f"recording (samples, files): {100 * (total - step_fused) / total:.1f} % of the "
-          "fused transient")  # fmt: skip
-    elem = step_unfused - contact_s
-    print("share of the unfused transient (each contributor's kernel timed):")
-    print(f"  element forces + node update  {elem:8.2f} s  {100 * elem / total_unfused:5.1f} %")
-    for c in timed:
-        name = type(c.inner).__name__
-        print(f"  {name:28s}  {c.seconds:8.2f} s  {100 * c.seconds / total_unfused:5.1f} %")
-    print(f"contact run (fused) / baseline per step: {total / base:.2f}x")
+    print(f"recording (samples, files): {100 * (total - step_run) / total:.1f} % of the "
+          "transient")  # fmt: skip
+    print(f"contact run / baseline per step: {total / base:.2f}x")
 
 
 if __name__ == "__main__":

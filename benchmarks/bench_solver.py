@@ -119,11 +119,11 @@ def bench_numpy(sizes: list[int], seconds: float) -> list[dict]:
 # ------------------------------------------------------------------ Taichi (subprocess)
 
 
-def _time_steps(model, n: int, serial: bool, repeats: int = 3) -> float:
+def _time_steps(model, n: int, mode: str | None, repeats: int = 3) -> float:
     best = np.inf
     for _ in range(repeats):
         t0 = time.perf_counter()
-        model.advance(n, serial=serial)
+        model.advance(n, mode=mode)
         best = min(best, time.perf_counter() - t0)
     return best / n
 
@@ -142,14 +142,14 @@ def taichi_worker(arch: str, threads: int, sizes: list[int], seconds: float) -> 
         model = Model(mesh, STEEL)
         model.set_state(v=initial_velocity(mesh.n_nodes))
         t0 = time.perf_counter()
-        model.advance(1, serial=False)
+        model.advance(1)
         first = time.perf_counter() - t0
-        model.advance(5, serial=False)
+        model.advance(5)
         t0 = time.perf_counter()
-        model.advance(5, serial=False)
+        model.advance(5)
         per = (time.perf_counter() - t0) / 5
         n = max(5, int(seconds / 3 / per))
-        per_step = _time_steps(model, n, serial=False)
+        per_step = _time_steps(model, n, mode=None)  # as a run steps it
         rows.append(
             {
                 "impl": f"taichi-{arch}",
@@ -167,9 +167,9 @@ def taichi_worker(arch: str, threads: int, sizes: list[int], seconds: float) -> 
     mesh = square_mesh(2000)
     model = Model(mesh, STEEL)
     model.set_state(v=initial_velocity(mesh.n_nodes))
-    for serial, label in ((True, "serial-block"), (False, "launch-per-step")):
-        model.advance(10, serial=serial)
-        per_step = _time_steps(model, 2000 if serial else 500, serial=serial, repeats=5)
+    for mode, label in (("serial", "serial-block"), ("parallel", "launch-per-step")):
+        model.advance(10, mode=mode)
+        per_step = _time_steps(model, 2000 if mode == "serial" else 500, mode, repeats=5)
         rows.append(
             {
                 "impl": f"taichi-{arch}-overhead-{label}",

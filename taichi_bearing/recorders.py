@@ -11,25 +11,28 @@ import math
 import numpy as np
 
 from taichi_bearing.output.histories import roller_force_columns
+from taichi_bearing.output.recorder import Recorder
 from taichi_bearing.starter import roller_kinematics_matrix
 
 __all__ = ["CageRecorder", "ContactForceRecorder", "RollerMotionRecorder", "roller_motion_columns"]
 
 
-class ContactForceRecorder:
+class ContactForceRecorder(Recorder):
     """``roller<j>_<race>_fx|fy|fn|ft``: the contact force BY roller j ON each raceway,
     averaged over the sample interval (the contact's ``pop_sample_means``).
 
-    The contact's pairs must be ordered roller by roller, outer then inner (as
-    :func:`taichi_bearing.starter.build_setup` makes them).
+    ``pair_table[j, r]`` is the contact pair of roller ``j`` on race ``r`` (outer, inner;
+    :attr:`taichi_bearing.starter.Setup.pair_table`).
     """
 
-    def __init__(self, contact, n_rollers: int) -> None:
+    def __init__(self, contact, pair_table: np.ndarray) -> None:
         self.contact = contact
-        self.columns = roller_force_columns(n_rollers)
+        self.pair_table = np.asarray(pair_table)
+        self.columns = roller_force_columns(len(self.pair_table))
 
     def sample(self, model) -> np.ndarray:
-        return np.asarray(self.contact.pop_sample_means(), dtype=float).ravel()
+        means = np.asarray(self.contact.pop_sample_means(), dtype=float)
+        return means[self.pair_table].ravel()
 
 
 def roller_motion_columns(n_rollers: int) -> list[str]:
@@ -41,7 +44,7 @@ def roller_motion_columns(n_rollers: int) -> list[str]:
     ]
 
 
-class RollerMotionRecorder:
+class RollerMotionRecorder(Recorder):
     """Each roller's centre angle, spin and radius at the end of each sample interval.
 
     The centre is the mass centroid of the roller's nodes; the spin is
@@ -88,7 +91,7 @@ class RollerMotionRecorder:
         self.angle = None if np.isnan(a).any() else a
 
 
-class CageRecorder:
+class CageRecorder(Recorder):
     """``cage_angle_rad`` (from the start, CCW) and ``cage_speed_rad_s`` at each sample.
 
     With a rigid cage model, its own angle and speed; without one, the mean orbital angle

@@ -76,19 +76,6 @@ def stage_mesh(case: Case) -> tuple[Mesh, dict]:
     return mesh, to_jsonable(dataclasses.asdict(stats))
 
 
-def _contact_classes():
-    """PenaltyContact and RigidCage when their modules are present (None otherwise)."""
-    try:
-        from taichi_bearing.solver.contact import PenaltyContact
-    except ImportError:
-        PenaltyContact = None  # noqa: N806
-    try:
-        from taichi_bearing.solver.cage import RigidCage
-    except ImportError:
-        RigidCage = None  # noqa: N806
-    return PenaltyContact, RigidCage
-
-
 def _mass_scaling(model, mesh: Mesh) -> dict:
     """What selective mass scaling did: elements scaled, mass added per part (kg, and as a
     fraction of the part's mass)."""
@@ -117,7 +104,7 @@ def _mass_scaling_text(model, mesh: Mesh) -> str:
 
 def build_model(case: Case, mesh: Mesh, arch: str = "cpu", threads: int | None = None):
     """Start Taichi and build the model, contact, cage and recorders of a case."""
-    from taichi_bearing.solver import Model, init_taichi
+    from taichi_bearing.solver import Model, PenaltyContact, RigidCage, init_taichi
 
     init_taichi(arch, threads)
     setup = build_setup(case, mesh)
@@ -132,23 +119,21 @@ def build_model(case: Case, mesh: Mesh, arch: str = "cpu", threads: int | None =
         max_added_mass=case.run.max_added_mass,
         time_step=case.run.time_step,
     )
-    PenaltyContact, RigidCage = _contact_classes()  # noqa: N806
-    if PenaltyContact is None:
-        raise SimulationError(
-            "contact is not available (taichi_bearing.solver.contact missing): the rollers "
-            "cannot be loaded"
-        )
     contact = PenaltyContact(model, setup.contact_pairs, setup.contact_params)
-    model.contributors.append(contact)
+    model.add_contributor(contact)
     cage = None
-    if RigidCage is not None and case.cage.model == "rigid":
+    if case.cage.model == "rigid":
         cage = RigidCage.from_mesh(
-            model, setup.contact_params, case.cage.mass, case.cage.pocket_clearance
+            model,
+            setup.contact_params,
+            case.cage.mass,
+            case.cage.pocket_clearance,
+            start_speed=setup.rates.cage,
         )
-        model.contributors.append(cage)
+        model.add_contributor(cage)
     rollers = RollerMotionRecorder(mesh, model.mass_np, setup.n_rollers)
     recorders = [
-        ContactForceRecorder(contact, setup.n_rollers),
+        ContactForceRecorder(contact, setup.pair_table),
         rollers,
         CageRecorder(cage, rollers),
     ]
@@ -173,7 +158,7 @@ def preload(bm: BearingModel) -> dict:
             f"preload did not converge in {res.steps} steps (KE ratio {res.ke_ratio:.3g} > "
             f"{case.preload.ke_ratio_tol:g}); raise preload.max_steps or check the load"
         )
-    forces = np.asarray(bm.contact.current_resultants()).reshape(bm.setup.n_rollers, 2, 4)
+    forces = np.asarray(bm.contact.current_resultants())[bm.setup.pair_table]  # (roller, race, 4)
     top = bm.mesh.node_sets["adapter_top"]
     drop = float(-np.mean(model.displacements()[top, 1]))
     return {
@@ -322,11 +307,9 @@ def run_case(
             f"flexible-ring reference: max roller force {max(pre[REFERENCE_KEY]):.4g} N "
             f"({times['reference']:.1f} s)"
         )
-        model.set_initial_velocities()  # ideal rolling from the preloaded positions
-        if bm.cage is not None:
-            bm.cage.set_state(angle=0.0, speed=bm.setup.rates.cage)
-        if hasattr(bm.contact, "reset_dissipation"):
-            bm.contact.reset_dissipation()
+        # t = 0: ideal rolling from the preloaded positions (the cage at its kinematic
+        # speed, the contact's dissipation counted from here)
+        model.set_initial_velocities()
 
     config = RunConfig(
         duration=case.run.duration,

@@ -76,6 +76,8 @@ class Setup:
     damping: StiffnessDamping | None
     contact_params: ContactParameters
     contact_pairs: list[ContactPair]
+    # pair_table[j, r]: index in contact_pairs of roller j on race RACES[r]
+    pair_table: np.ndarray
     rates: RollingRates
     n_rollers: int
     notes: dict[str, str] = field(default_factory=dict)
@@ -193,8 +195,10 @@ def build_setup(case: Case, mesh: Mesh) -> Setup:
     d = case.damping
     damping = StiffnessDamping(d.ratio, d.frequency, d.max_element_ratio) if d.ratio > 0 else None
     pairs = []
-    for name in roller_names(n):
-        for race in RACES:
+    table = np.zeros((n, len(RACES)), dtype=np.int64)
+    for j, name in enumerate(roller_names(n)):
+        for r, race in enumerate(RACES):
+            table[j, r] = len(pairs)
             pairs.append(ContactPair(f"{name}_{race}", name, f"{race}_raceway", two_pass=True))
     return Setup(
         material=mat,
@@ -205,6 +209,7 @@ def build_setup(case: Case, mesh: Mesh) -> Setup:
         damping=damping,
         contact_params=ContactParameters.from_case(case.contact),
         contact_pairs=pairs,
+        pair_table=table,
         rates=rates,
         n_rollers=n,
         notes={

@@ -10,6 +10,7 @@ from taichi_bearing.mesh.primitives import disk_mesh
 from taichi_bearing.solver.backend import init_taichi
 from taichi_bearing.solver.cage import RigidCage
 from taichi_bearing.solver.contact import ContactParameters
+from taichi_bearing.solver.contributor import ForceContributor
 from taichi_bearing.solver.loads import PrescribedRotation
 from taichi_bearing.solver.materials import Material
 from taichi_bearing.solver.model import Model
@@ -24,9 +25,9 @@ def taichi_cpu():
     init_taichi("cpu")
 
 
-def orbiting_roller(omega: float) -> tuple[Model, RigidCage]:
+def orbiting_roller(omega: float, in_kernel: bool = True) -> tuple[Model, RigidCage]:
     """One roller on the pitch circle at 12 o'clock, orbiting rigidly at ``omega``, in
-    the pocket of a cage at rest."""
+    the pocket of a cage at rest (stepped in the model's kernels, or from Python)."""
     mesh = disk_mesh(R_ROLLER, 32)
     mesh.nodes = mesh.nodes + np.array([0.0, R_PITCH])
     mesh.surfaces["roller0"] = mesh.surfaces["outer"]
@@ -46,7 +47,7 @@ def orbiting_roller(omega: float) -> tuple[Model, RigidCage]:
         inertia=INERTIA,
         params=ContactParameters(damping_ratio=0.2),
     )
-    model.contributors.append(cage)
+    model.add_contributor(cage if in_kernel else _FromPython(cage))
     return model, cage
 
 
@@ -93,9 +94,11 @@ def test_orbiting_roller_drives_the_cage_to_its_speed():
     assert mean == pytest.approx(OMEGA, rel=0.01)
 
 
-class _Unfused:
-    """The cage behind a plain ``add_forces`` (no ``step_forces``): the model then calls
-    the cage's own kernel between its element and node kernels."""
+class _FromPython(ForceContributor):
+    """The cage behind a Python ``add_forces``: the model then calls the cage's own
+    kernel between the two launches of each step."""
+
+    in_kernel = False
 
     def __init__(self, inner) -> None:
         self.inner = inner
@@ -104,16 +107,14 @@ class _Unfused:
         self.inner.add_forces(model, t)
 
 
-def test_fused_step_kernels_match_the_contributors_own_kernels():
+def test_in_step_cage_matches_its_own_kernel_called_from_python():
     # The model runs the cage inside its step kernel (many steps per launch on a small
     # mesh); the same forces through the cage's own kernel, one launch per step, must give
     # the same motion bit for bit (same operations in the same order).
     runs = []
-    for fused in (True, False):
-        model, cage = orbiting_roller(OMEGA)
-        if not fused:
-            model.contributors[:] = [_Unfused(cage)]
-        assert model._fusable() is fused
+    for in_kernel in (True, False):
+        model, cage = orbiting_roller(OMEGA, in_kernel)
+        assert (model.python_contributors == ()) is in_kernel
         for _ in range(30):
             model.advance(100)
         runs.append((model.positions(), model.velocities(), cage.angle, cage.speed))

@@ -12,9 +12,10 @@ from taichi_bearing.mesh.primitives import disk_mesh, rectangle_mesh
 from taichi_bearing.solver.backend import init_taichi
 from taichi_bearing.solver.contact import ContactPair, ContactParameters, PenaltyContact
 from taichi_bearing.solver.contact_bodies import merge_meshes
+from taichi_bearing.solver.contributor import ForceContributor, add_force
 from taichi_bearing.solver.loads import FixedNodes, uniform_load
 from taichi_bearing.solver.materials import Material
-from taichi_bearing.solver.model import Model, add_force, rigid_velocity_field
+from taichi_bearing.solver.model import Model, rigid_velocity_field
 from taichi_bearing.solver.relaxation import relax
 
 STEEL = Material(210e9, 0.3, 7850.0)
@@ -29,8 +30,10 @@ def taichi_cpu():
 
 
 @ti.data_oriented
-class Push:
-    """Test contributor: a constant force split equally over some nodes."""
+class Push(ForceContributor):
+    """Test contributor: a constant force split equally over some nodes (from Python)."""
+
+    in_kernel = False
 
     def __init__(self, nodes: np.ndarray, force: tuple[float, float]) -> None:
         self.nodes = ti.field(ti.i32, shape=len(nodes))
@@ -70,7 +73,7 @@ def disk_on_block(
         else ContactPair("disk_block", "disk.outer", "block.top", two_pass)
     )
     contact = PenaltyContact(model, [pair], params)
-    model.contributors.append(contact)
+    model.add_contributor(contact)
     assert relax(model, ke_ratio_tol=1e-8, max_steps=60_000).converged
     contact.reset_dissipation()
     return model, contact, disk_ids
@@ -122,7 +125,7 @@ def test_pushed_disk_rolls_when_friction_suffices_and_slides_when_not():
         # Rolling needs friction F I / (I + m R^2); it is available up to mu_s N.
         f_crit = mu_s * n_load * (1.0 + m * R**2 / inertia)
         force = fraction * f_crit
-        model.contributors.append(Push(ids, (force, 0.0)))
+        model.add_contributor(Push(ids, (force, 0.0)))
         # Short: the polygonal disk must turn by much less than mu radians, or the normal
         # force, off-centre under a vertex rocking off the bottom, adds a moment.
         t, xc, theta = trace(model, ids, 2400).T
@@ -240,7 +243,7 @@ def thrown_disk(
     ids = np.unique(mesh.elements[mesh.element_part == mesh.part_id("disk")])
     model = Model(mesh, STEEL, constraints=[FixedNodes(mesh.node_sets["block.bottom"])])
     contact = PenaltyContact(model, [ContactPair("c", "disk.outer", "block.top")], params)
-    model.contributors.append(contact)
+    model.add_contributor(contact)
     X = model.positions()
     v = np.zeros((model.n_nodes, 2))
     v[ids] = rigid_velocity_field(X[ids], omega, X[ids].mean(0), velocity)

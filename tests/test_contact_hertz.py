@@ -40,7 +40,7 @@ def pressed_cylinder(fine: float, scale: float, dt_factor: float, tol: float = 1
     )
     pair = ContactPair("cap_on_block", "cap.bottom", "block.top", two_pass=True)
     contact = PenaltyContact(model, [pair], ContactParameters(penalty_scale=scale))
-    model.contributors.append(contact)
+    model.add_contributor(contact)
     # The penalty adds stiffness of the order of the elements': a shorter step keeps it stable.
     model.set_dt(dt_factor * model.dt_stable)
     res = relax(model, ke_ratio_tol=tol, max_steps=60_000)

@@ -59,7 +59,7 @@ def rolling_disk(smoothing: bool, speed: float, duration: float):
         loads=[uniform_load(ids, (0.0, -m * G))],
     )
     contact = PenaltyContact(model, [ContactPair("roll", "disk.outer", "block.top")], params)
-    model.contributors.append(contact)
+    model.add_contributor(contact)
     assert relax(model, ke_ratio_tol=1e-6, max_steps=40_000).converged
     # Rigid rolling velocities about the contact point.
     x = model.positions()

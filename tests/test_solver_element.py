@@ -43,7 +43,7 @@ def test_patch_test_distorted_mesh_gives_constant_stress():
     F = np.array([[c, -s], [s, c]]) @ np.array([[1.08, 0.05], [0.02, 0.95]])
     model.set_state(x=X @ F.T + np.array([0.3, -0.2]))
     vm = model.von_mises_stress()  # at the imposed positions, before any step
-    model.advance(1, record_last=True, serial=False)
+    model.advance(1, record_last=True, mode="parallel")
     expected = svk_von_mises(F, STEEL)
     print(f"patch test: max |vM - exact| / exact = {np.max(np.abs(vm - expected)) / expected:.1e}")
     assert np.max(np.abs(vm - expected)) < 1e-10 * expected
@@ -132,7 +132,7 @@ def test_mass_scaled_model_runs_stably_at_the_raised_step():
     # element bound the same run is NaN within 500 steps.
     rng = np.random.default_rng(5)
     scaled.set_state(v=rng.normal(0.0, 1e-3, size=(mesh.n_nodes, 2)))
-    scaled.advance(1, record_last=True, serial=True)
+    scaled.advance(1, record_last=True, mode="serial")
 
     def energy():
         return sum(scaled.energies()[k] for k in ("kinetic", "internal", "hourglass"))
@@ -140,7 +140,7 @@ def test_mass_scaled_model_runs_stably_at_the_raised_step():
     e0 = energy()
     ratios = []
     for _ in range(8):
-        scaled.advance(500, record_last=True, serial=True)
+        scaled.advance(500, record_last=True, mode="serial")
         ratios.append(energy() / e0)
     print("energy / initial every 500 steps:", np.round(ratios, 3))
     assert np.all(np.isfinite(ratios))

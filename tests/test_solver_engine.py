@@ -10,6 +10,8 @@ from taichi_bearing.errors import SimulationError
 from taichi_bearing.mesh.primitives import annulus_mesh, disk_mesh, rectangle_mesh
 from taichi_bearing.output.histories import read_histories
 from taichi_bearing.solver.backend import init_taichi
+from taichi_bearing.solver.contributor import ForceContributor, add_force
+from taichi_bearing.solver.damping import StiffnessDamping
 from taichi_bearing.solver.engine import RunConfig, run_transient
 from taichi_bearing.solver.loads import (
     FixedNodes,
@@ -19,7 +21,7 @@ from taichi_bearing.solver.loads import (
     uniform_load,
 )
 from taichi_bearing.solver.materials import Material
-from taichi_bearing.solver.model import Model, StiffnessDamping, add_force
+from taichi_bearing.solver.model import Model
 
 STEEL = Material(210e9, 0.3, 7850.0)
 
@@ -141,8 +143,10 @@ def test_unstable_step_stops_with_message_and_keeps_histories(tmp_path):
 
 
 @ti.data_oriented
-class Gravity:
-    """A force contributor: body force m g on every node (as contact will add its forces)."""
+class Gravity(ForceContributor):
+    """A Python force contributor: body force m g on every node."""
+
+    in_kernel = False
 
     def __init__(self, g: tuple[float, float]) -> None:
         self.g = g
@@ -163,7 +167,7 @@ def test_force_contributor_is_called_every_step_and_its_work_is_counted():
     model = Model(mesh, STEEL, sensors={"c": 0})
     g = (3.0, -9.81)
     gravity = Gravity(g)
-    model.contributors.append(gravity)
+    model.add_contributor(gravity)
     res = run_transient(model, RunConfig(duration=1e-4, sample_rate=1e5))
     assert gravity.calls == model.step_count
     # Uniform acceleration: leapfrog with a half first step is exact, u = g t^2 / 2.

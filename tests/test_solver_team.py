@@ -22,21 +22,18 @@ def taichi_cpu():
         pytest.skip("team stepping needs two CPU threads")
 
 
-def run(build, team: bool, chunks: int, steps: int, monkeypatch) -> tuple[Model, list]:
+def run(build, team: bool, chunks: int, steps: int) -> tuple[Model, list]:
     """Build a model and step it in chunks, by team launches or by one launch per step;
     returns the model and what ``build``'s reader gave after each chunk."""
-    with monkeypatch.context() as patch:
-        if not team:
-            patch.setattr(Model, "_team_size", lambda self, fused: 0)
-        model, read = build()
-        out = []
-        for _ in range(chunks):
-            model.advance(steps, record_last=True, serial=False)
-            out.append(read())
+    model, read = build()
+    out = []
+    for _ in range(chunks):
+        model.advance(steps, record_last=True, mode="team" if team else "parallel")
+        out.append(read())
     return model, out
 
 
-def test_team_steps_match_one_launch_per_step_with_contact(monkeypatch):
+def test_team_steps_match_one_launch_per_step_with_contact():
     """A spinning disk thrown onto a block with friction: bounces, slides and rolls."""
 
     contacts = []
@@ -47,10 +44,10 @@ def test_team_steps_match_one_launch_per_step_with_contact(monkeypatch):
         contacts.append(contact)
         return model, lambda: contact.contact_state()["fn"].copy()
 
-    team, fn_team = run(build, True, 30, 60, monkeypatch)
-    ref, fn_ref = run(build, False, 30, 60, monkeypatch)
+    team, fn_team = run(build, True, 30, 60)
+    ref, fn_ref = run(build, False, 30, 60)
     contact_team, contact_ref = contacts
-    joined = team.team_joined.to_numpy()
+    joined = team.team.joined.to_numpy()
     # every thread ran one member (each took its own task of the launch's items)
     assert np.count_nonzero(joined) == current_threads()
     assert team.step_count == ref.step_count == 1800
@@ -66,7 +63,7 @@ def test_team_steps_match_one_launch_per_step_with_contact(monkeypatch):
     assert contact_team.energies() == contact_ref.energies()
 
 
-def test_team_steps_match_one_launch_per_step_with_the_cage(monkeypatch):
+def test_team_steps_match_one_launch_per_step_with_the_cage():
     """A roller orbiting in its pocket drives the cage (the cage's part runs on member 0
     between the force shares and the node updates)."""
 
@@ -74,9 +71,9 @@ def test_team_steps_match_one_launch_per_step_with_the_cage(monkeypatch):
         model, cage = orbiting_roller(OMEGA)
         return model, lambda: (cage.angle, cage.speed, *cage.pop_sample_means()[0])
 
-    team, out_team = run(build, True, 40, 100, monkeypatch)
-    _, out_ref = run(build, False, 40, 100, monkeypatch)
+    team, out_team = run(build, True, 40, 100)
+    _, out_ref = run(build, False, 40, 100)
     out_team, out_ref = np.array(out_team), np.array(out_ref)
     assert np.abs(out_ref[:, 2:]).max() > 0  # the pocket pushed
     np.testing.assert_array_equal(out_team, out_ref)
-    assert np.count_nonzero(team.team_joined.to_numpy()) == current_threads()
+    assert np.count_nonzero(team.team.joined.to_numpy()) == current_threads()

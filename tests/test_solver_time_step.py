@@ -38,7 +38,7 @@ def free_vibration_growth(model: Model, steps: int = 600) -> float:
     mode excited), relative to the start; inf once it is no longer finite."""
     rng = np.random.default_rng(11)
     model.set_state(v=rng.normal(0.0, 1e-3, size=(model.n_nodes, 2)))
-    model.advance(1, record_last=True, serial=True)
+    model.advance(1, record_last=True, mode="serial")
 
     def energy():
         e = model.energies()
@@ -46,7 +46,7 @@ def free_vibration_growth(model: Model, steps: int = 600) -> float:
 
     e0, worst = energy(), 1.0
     for _ in range(steps // 50):
-        model.advance(50, record_last=True, serial=True)
+        model.advance(50, record_last=True, mode="serial")
         e = energy()
         if not np.isfinite(e):
             return np.inf

@@ -8,7 +8,14 @@ import taichi as ti
 
 from taichi_bearing.errors import InputError
 
-__all__ = ["ARCHS", "current_arch", "current_threads", "init_taichi", "serial_loops"]
+__all__ = [
+    "ARCHS",
+    "current_arch",
+    "current_threads",
+    "init_taichi",
+    "parallel_members",
+    "serial_loops",
+]
 
 ARCHS = {"cpu": ti.cpu, "cuda": ti.cuda, "vulkan": ti.vulkan}
 
@@ -39,6 +46,20 @@ def serial_loops() -> tuple[bool, bool]:
     """
     cpu = current_arch() == "cpu"
     return cpu, cpu and current_threads() == 1
+
+
+# Members of a parallel launch per CPU thread: enough items for Taichi's CPU tasks (at
+# least 512 items each) to reach every thread; on a GPU, about one member per GPU thread.
+PARALLEL_MEMBERS_PER_THREAD = 1024
+GPU_MEMBERS = 1 << 16
+
+
+def parallel_members() -> int:
+    """How many members share a phase run as one parallel loop (1 on one CPU thread)."""
+    if current_arch() == "cpu":
+        threads = current_threads()
+        return 1 if threads == 1 else PARALLEL_MEMBERS_PER_THREAD * threads
+    return GPU_MEMBERS
 
 
 def init_taichi(

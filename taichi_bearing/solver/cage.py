@@ -21,17 +21,17 @@ from collections.abc import Sequence
 import numpy as np
 import taichi as ti
 
-from taichi_bearing.solver.backend import serial_loops
 from taichi_bearing.solver.contact_law import friction_force, normal_force
 from taichi_bearing.solver.contact_setup import ContactParameters, segment_stiffness
-from taichi_bearing.solver.model import Model, add_force
+from taichi_bearing.solver.contributor import ForceContributor, add_force
+from taichi_bearing.solver.model import Model
 
 __all__ = ["RigidCage"]
 
 
 @ti.data_oriented
-class RigidCage:
-    """Rigid cage as a :class:`~taichi_bearing.solver.model.ForceContributor`.
+class RigidCage(ForceContributor):
+    """Rigid cage as a :class:`~taichi_bearing.solver.contributor.ForceContributor`.
 
     Parameters
     ----------
@@ -50,6 +50,9 @@ class RigidCage:
     params : ContactParameters
     center : (float, float)
         Bearing centre.
+    start_speed : float
+        Angular speed at time 0 of a transient (:meth:`start`), rad/s; e.g. ideal
+        rolling.
     """
 
     def __init__(
@@ -63,6 +66,7 @@ class RigidCage:
         inertia: float,
         params: ContactParameters,
         center: tuple[float, float] = (0.0, 0.0),
+        start_speed: float = 0.0,
     ) -> None:
         if len(roller_surfaces) != len(pocket_angles) or not roller_surfaces:
             raise ValueError("need one pocket angle per roller surface")
@@ -97,6 +101,7 @@ class RigidCage:
         self.n_rollers = nz = len(roller_surfaces)
         self.n_nodes = nn = len(node_ids)
         self.inertia = float(inertia)
+        self.start_speed = float(start_speed)
         self.half_gap = float(half_gap)
         self.params = params
         self._cx, self._cy = (float(c) for c in center)
@@ -106,7 +111,6 @@ class RigidCage:
         self._scale, self._zeta = float(params.penalty_scale), float(params.damping_ratio)
         self._mu_s, self._mu_d = float(params.friction_static), float(params.friction_dynamic)
         self._decay = float(params.friction_decay)
-        self._serial_light = serial_loops()[0]
         # Deeper than the gap no wall is meant (the node would be past the pocket centre).
         self._capture = float(half_gap)
 
@@ -131,11 +135,17 @@ class RigidCage:
 
     @classmethod
     def from_mesh(
-        cls, model: Model, params: ContactParameters, cage_mass: float, pocket_clearance: float
+        cls,
+        model: Model,
+        params: ContactParameters,
+        cage_mass: float,
+        pocket_clearance: float,
+        start_speed: float = 0.0,
     ) -> "RigidCage":
         """The cage of a bearing mesh (``mesh.info["cage"]``, rollers ``roller{j}``): a
         ring between the nominal inner and outer radii, ``I = m (r_i^2 + r_o^2) / 2``,
-        pocket walls at roller radius + half the pocket clearance."""
+        pocket walls at roller radius + half the pocket clearance, turning at
+        ``start_speed`` (rad/s) at time 0 of a transient."""
         info = model.mesh.info
         cage = info["cage"]
         angles = np.asarray(cage["pocket_angles"], dtype=float)
@@ -149,52 +159,16 @@ class RigidCage:
             r_o,
             0.5 * cage_mass * (r_i**2 + r_o**2),
             params,
+            start_speed=start_speed,
         )
 
-    # ------------------------------------------------------------------ kernel
-
-    @ti.kernel
-    def _k_step(
-        self,
-        x: ti.template(),
-        v: ti.template(),
-        mass: ti.template(),
-        f_ext: ti.template(),
-        dt: ti.f64,
-        dt_v: ti.f64,
-    ):
-        self.step_forces(x, v, mass, f_ext, dt, dt_v)
+    # ------------------------------------------------------------------ in the step
 
     @ti.func
-    def step_forces(self, x: ti.template(), v: ti.template(), mass: ti.template(),
-                    f_ext: ti.template(), dt, dt_v):  # fmt: skip
-        """Pocket forces into ``f_ext``, then the cage's leapfrog step (the model's fused
-        step kernel calls this directly)."""
-        ti.loop_config(serialize=True)  # a few rollers
-        for j in range(self.n_rollers):
-            self._frame(j)
-        ti.loop_config(serialize=self._serial_light)
-        for n in range(self.n_nodes):
-            self._pocket(n, x, v, mass, f_ext, dt)
-        ti.loop_config(serialize=True)
-        for _ in range(1):
-            self._turn(dt, dt_v)
-
-    @ti.func
-    def team_begin(self, member, n_members):
-        """Team stepping: nothing to clear (member 0 does it all in :meth:`team_end`)."""
-        pass
-
-    @ti.func
-    def team_share(self, member, n_members, x: ti.template(), v: ti.template(),
-                   mass: ti.template(), f_ext: ti.template(), dt, dt_v):  # fmt: skip
-        """Team stepping: no share (a few thousand light items, see :meth:`team_end`)."""
-        pass
-
-    @ti.func
-    def team_end(self, x: ti.template(), v: ti.template(), mass: ti.template(),
+    def step_end(self, x: ti.template(), v: ti.template(), mass: ti.template(),
                  f_ext: ti.template(), dt, dt_v):  # fmt: skip
-        """Member 0 after the contact: the whole of :meth:`step_forces`."""
+        """Member 0, once the shares are done: the pocket forces, summed in a fixed order
+        (a few thousand light items), then the cage's leapfrog step."""
         for j in range(self.n_rollers):
             self._frame(j)
         for n in range(self.n_nodes):
@@ -233,7 +207,7 @@ class RigidCage:
         if pen > self._capture:
             side = 0
         if side == 0 or side != self.side[n]:
-            if self.et[n] != 0.0:  # (most nodes: no atomic add on the shared sum)
+            if self.et[n] != 0.0:
                 self.diss[0] += self.et[n]  # friction spring released
             self.ft[n] = 0.0
             self.et[n] = 0.0
@@ -272,21 +246,14 @@ class RigidCage:
         self.state[1] = w_new
         self.state[0] = self.state[0] + dt * w_new
 
-    # ------------------------------------------------------------------ ForceContributor
-
-    def add_forces(self, model: Model, t: float) -> None:
-        """Pocket forces into ``model.f_extra``; then the cage's own leapfrog step."""
-        dt = model.dt
-        dt_v = 0.5 * dt if model.first else dt
-        self._k_step(model.x, model.v, model.mass, model.f_extra, dt, dt_v)
-        self.after_steps(model, 1)
-
-    def before_steps(self, model: Model, n: int) -> int:
-        """Nothing to prepare: any number of steps may run in one kernel."""
-        return n
+    # ------------------------------------------------------------------ Python-side hooks
 
     def after_steps(self, model: Model, n: int) -> None:
         self.n_samples += n
+
+    def start(self, model: Model) -> None:
+        """Time 0 of a transient: angle 0 and the starting speed."""
+        self.set_state(angle=0.0, speed=self.start_speed)
 
     # ------------------------------------------------------------------ state and read-out
 
@@ -319,7 +286,7 @@ class RigidCage:
         self.n_samples = 0
         return s
 
-    def energy(self, model: Model | None = None) -> float:
+    def energy(self) -> float:
         """Cage kinetic energy plus the penalty energy stored at the pocket walls, J."""
         e = self.energies()
         return e["kinetic"] + e["elastic"]

@@ -1,5 +1,5 @@
 """2-D penalty node-to-segment contact with Coulomb friction and viscous damping, a
-:class:`~taichi_bearing.solver.model.ForceContributor`.
+:class:`~taichi_bearing.solver.contributor.ForceContributor`.
 
 Each step, for every node of every surface that takes part in a pass (a "query"):
 
@@ -57,13 +57,15 @@ from taichi_bearing.solver.contact_setup import (
     segment_end_corners,
     segment_stiffness,
 )
-from taichi_bearing.solver.model import FORCE_QUANTUM, Model, add_force, force_at, share
+from taichi_bearing.solver.contributor import FORCE_QUANTUM, ForceContributor, add_force, force_at
+from taichi_bearing.solver.model import Model
+from taichi_bearing.solver.team import share
 
 __all__ = ["ContactPair", "ContactParameters", "PenaltyContact"]
 
 
 @ti.data_oriented
-class PenaltyContact:
+class PenaltyContact(ForceContributor):
     """Penalty contact between named surface pairs of a :class:`Model`.
 
     Parameters
@@ -253,7 +255,7 @@ class PenaltyContact:
         self._mu_s, self._mu_d = float(params.friction_static), float(params.friction_dynamic)
         self._decay = float(params.friction_decay)
         self._smooth = bool(params.smoothing)
-        self._serial_light, self._serial = serial_loops()
+        self._serial_light = serial_loops()[0]  # the grid check's loop over tracked nodes
         # Active-query reach (see _k_activate): curvature bound of a patch and the
         # largest arc offset from its chord.
         self._kappa_max = float(np.max(np.abs(kappa)) + np.max(np.abs(q_kappa)))
@@ -429,39 +431,10 @@ class PenaltyContact:
 
     # ------------------------------------------------------------------ contact forces
 
-    @ti.kernel
-    def _k_contact(
-        self,
-        x: ti.template(),
-        v: ti.template(),
-        mass: ti.template(),
-        f_ext: ti.template(),
-        dt: ti.f64,
-    ):
-        self.step_forces(x, v, mass, f_ext, dt, dt)
-
     @ti.func
-    def step_forces(self, x: ti.template(), v: ti.template(), mass: ti.template(),
-                    f_ext: ti.template(), dt, dt_v):  # fmt: skip
-        """One step's contact forces into ``f_ext`` (the model's fused step kernel calls
-        this directly; ``dt_v`` is unused)."""
-        ti.loop_config(serialize=True)  # a few pairs
-        for p in range(self.n_pairs):
-            self.cur[p] = ti.Vector.zero(ti.i64, 4)
-        ti.loop_config(serialize=self._serial_light)
-        for t in range(self.n_track):
-            self.node_force[self.track[t]] = ti.Vector.zero(ti.i64, 2)
-        ti.loop_config(serialize=self._serial)
-        for qa in range(self.status[1]):
-            self._query(qa, x, v, mass, f_ext, dt)
-        ti.loop_config(serialize=True)
-        for p in range(self.n_pairs):
-            self.acc[p] += force_at(self.cur, p)
-
-    @ti.func
-    def team_begin(self, member, n_members):
-        """Team stepping (see :class:`~taichi_bearing.solver.model.ForceContributor`):
-        clear this member's share of the tracked nodes' forces (member 0: the pairs')."""
+    def step_begin(self, member, n_members):
+        """Clear this member's share of the tracked nodes' forces (member 0: the
+        pairs')."""
         if member == 0:
             for p in range(self.n_pairs):
                 self.cur[p] = ti.Vector.zero(ti.i64, 4)
@@ -470,7 +443,7 @@ class PenaltyContact:
             self.node_force[self.track[t]] = ti.Vector.zero(ti.i64, 2)
 
     @ti.func
-    def team_share(self, member, n_members, x: ti.template(), v: ti.template(),
+    def step_share(self, member, n_members, x: ti.template(), v: ti.template(),
                    mass: ti.template(), f_ext: ti.template(), dt, dt_v):  # fmt: skip
         """This member's share of the listed queries."""
         q0, q1 = share(self.status[1], member, n_members)
@@ -478,9 +451,9 @@ class PenaltyContact:
             self._query(qa, x, v, mass, f_ext, dt)
 
     @ti.func
-    def team_end(self, x: ti.template(), v: ti.template(), mass: ti.template(),
+    def step_end(self, x: ti.template(), v: ti.template(), mass: ti.template(),
                  f_ext: ti.template(), dt, dt_v):  # fmt: skip
-        """Member 0, after every share: this step's pair resultants into the sums."""
+        """After every share: this step's pair resultants into the sample sums."""
         for p in range(self.n_pairs):
             self.acc[p] += force_at(self.cur, p)
 
@@ -695,17 +668,11 @@ class PenaltyContact:
             self.q_en[q] = k * e_el
         self.q_et[q] = e_t
 
-    # ------------------------------------------------------------------ ForceContributor
-
-    def add_forces(self, model: Model, t: float) -> None:
-        """Add this step's contact forces into ``model.f_extra`` (see module notes)."""
-        self.before_steps(model, 1)
-        self._k_contact(model.x, model.v, model.mass, model.f_extra, model.dt)
-        self.after_steps(model, 1)
+    # ------------------------------------------------------------------ Python-side hooks
 
     def before_steps(self, model: Model, n: int) -> int:
-        """Before ``n`` steps of :meth:`step_forces` in one kernel: checks the search grid
-        when due, and returns how many steps may run before the next check."""
+        """Before ``n`` steps in one launch: checks the search grid when due, and returns
+        how many steps may run before the next check."""
         if self._countdown <= 0:
             self._check_grid(model)
         return min(n, self._countdown)
@@ -714,6 +681,16 @@ class PenaltyContact:
         """After ``n`` steps: counts them (grid schedule, sample means)."""
         self._countdown -= n
         self.n_samples += n
+
+    def start(self, model: Model) -> None:
+        """Time 0 of a transient: the dissipation counts from here."""
+        self.reset_dissipation()
+
+    def load_state_arrays(self, arrays) -> None:
+        """Restore a checkpoint's state; the search grid and the active query list are
+        rebuilt at the next step."""
+        super().load_state_arrays(arrays)
+        self.after_state_load()
 
     # ------------------------------------------------------------------ read-out
 
@@ -735,7 +712,7 @@ class PenaltyContact:
         self.n_samples = 0
         return s
 
-    def energy(self, model: Model | None = None) -> float:
+    def energy(self) -> float:
         """Elastic energy stored in the penalty springs (normal + tangential), J."""
         n = self.n_query
         return float(self.q_en.to_numpy()[:n].sum() + self.q_et.to_numpy()[:n].sum())

@@ -1,5 +1,7 @@
-"""The transient run: time loop, averaged sensor histories, energies, frames, safety stops,
-checkpoints and resume, progress bar.
+"""The transient run's driver: sample by sample, advance the model (the time loop is
+:func:`taichi_bearing.solver.stepping.advance`) and record averaged sensor histories,
+energies, frames, checkpoints; stop safely on NaN, inverted elements or energy errors;
+resume; show progress.
 
 The output interval ``T_s = 1 / sample_rate`` is an exact whole number ``S`` of steps (the
 step is lowered to fit). Sample ``k`` is the mean of the sensor values at the ``S`` steps
@@ -16,78 +18,23 @@ import time
 from collections.abc import Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Protocol
 
 import numpy as np
-from taichi.lang.field import Field as TaichiField
 
 from taichi_bearing.errors import InputError, SimulationError
 from taichi_bearing.output.checkpoint import latest_checkpoint, load_checkpoint, save_checkpoint
 from taichi_bearing.output.histories import ENERGY_KINDS, HistoryWriter, history_columns
 from taichi_bearing.output.progress import RunProgress
+from taichi_bearing.output.recorder import Recorder
 from taichi_bearing.output.vtk import FrameWriter
 from taichi_bearing.solver.model import Model
 
-__all__ = [
-    "Recorder",
-    "RunConfig",
-    "RunResult",
-    "load_object_state",
-    "object_state",
-    "run_transient",
-    "steps_per_sample",
-]
+__all__ = ["Recorder", "RunConfig", "RunResult", "run_transient", "steps_per_sample"]
 
 BALANCE_COLUMN = "energy_balance_error"
 
 
-class Recorder(Protocol):
-    """Extra history columns (e.g. roller contact forces, cage angle).
-
-    ``sample(model)`` is called once per output sample, after the steps of the interval,
-    and returns one value per name in ``columns`` (means over the interval where that
-    makes sense: see each recorder).
-    """
-
-    columns: list[str]
-
-    def sample(self, model: Model) -> np.ndarray: ...
-
-
-def object_state(obj) -> dict[str, np.ndarray]:
-    """What a contributor or recorder needs to continue bit for bit after a resume.
-
-    ``obj.state_arrays()`` when it defines one; otherwise every Taichi field and every
-    plain int/float/bool attribute of the object (its friction springs, sums, counters).
-    """
-    if hasattr(obj, "state_arrays"):
-        return dict(obj.state_arrays())
-    out: dict[str, np.ndarray] = {}
-    for name, val in vars(obj).items():
-        if isinstance(val, TaichiField):
-            out[name] = val.to_numpy()
-        elif isinstance(val, (bool, int, float)) and not isinstance(val, np.ndarray):
-            out[name] = np.asarray(val)
-    return out
-
-
-def load_object_state(obj, arrays: dict[str, np.ndarray]) -> None:
-    """Restore what :func:`object_state` saved (then ``obj.after_state_load()`` if the
-    object has one)."""
-    if hasattr(obj, "load_state_arrays"):
-        obj.load_state_arrays(arrays)
-        return
-    for name, a in arrays.items():
-        cur = getattr(obj, name)
-        if isinstance(cur, TaichiField):
-            cur.from_numpy(np.asarray(a))
-        else:
-            setattr(obj, name, type(cur)(np.asarray(a).item()))
-    if hasattr(obj, "after_state_load"):  # e.g. derived search structures to rebuild
-        obj.after_state_load()
-
-
-def _stateful(model: Model, recorders: Sequence) -> dict[str, object]:
+def _stateful(model: Model, recorders: Sequence[Recorder]) -> dict[str, object]:
     items = {f"contributor{k}": c for k, c in enumerate(model.contributors)}
     items.update({f"recorder{k}": r for k, r in enumerate(recorders)})
     return items
@@ -95,7 +42,7 @@ def _stateful(model: Model, recorders: Sequence) -> dict[str, object]:
 
 def _save_states(arrays: dict, objects: dict[str, object]) -> None:
     for prefix, obj in objects.items():
-        for name, a in object_state(obj).items():
+        for name, a in obj.state_arrays().items():
             arrays[f"{prefix}.{name}"] = a
 
 
@@ -103,7 +50,7 @@ def _load_states(arrays, objects: dict[str, object]) -> None:
     for prefix, obj in objects.items():
         mine = {k[len(prefix) + 1 :]: arrays[k] for k in arrays if k.startswith(prefix + ".")}
         if mine:
-            load_object_state(obj, mine)
+            obj.load_state_arrays(mine)
 
 
 @dataclass
@@ -178,12 +125,12 @@ def _every(interval: float | None, sample_rate: float) -> int | None:
 
 
 def _contact_energy(model: Model) -> float:
-    """Sum of ``energy(model)`` of the contributors that define it (e.g. penalty energy).
+    """Sum of the contributors' ``energy()`` (stored penalty energy, the cage's motion).
 
     Informational: the work of contributor forces is already in ``external_work`` (it is
     part of the non-elastic nodal force), so it is not added to the balance again.
     """
-    return float(sum(c.energy(model) for c in model.contributors if hasattr(c, "energy")))
+    return float(sum(c.energy() for c in model.contributors))
 
 
 def _diagnose(model: Model, step: int, t: float, what: str, cause: str) -> SimulationError:
@@ -236,7 +183,7 @@ def run_transient(
         a checkpoint with another one is refused on resume.
     recorders : sequence of Recorder
         Extra columns, placed after the sensor columns. Their state, and the state of the
-        model's contributors (:func:`object_state`), goes into every checkpoint.
+        model's contributors (their ``state_arrays``), goes into every checkpoint.
 
     Returns
     -------

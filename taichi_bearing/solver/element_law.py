@@ -1,0 +1,97 @@
+"""The element in the time loop (Taichi functions): the 1-point plane-strain quadrilateral
+with the St Venant-Kirchhoff law, Flanagan-Belytschko hourglass control and
+stiffness-proportional damping. Its reference data (gradients ``b``, hourglass vectors
+``gamma``, areas) come from :mod:`taichi_bearing.solver.element`.
+
+Per element ``e`` with nodes ``c[k]``: ``F = sum_k x_k (x) b_k``, Green strain
+``E = (F^T F - I) / 2``, second Piola-Kirchhoff stress ``S = lambda tr(E) I + 2 mu E``,
+nodal forces ``f_k = -A t F S b_k + gamma_k f_q`` with the hourglass force
+``f_q = -k_hg q``, ``q = sum_k gamma_k x_k``. Damping adds ``beta`` times the same law of
+the Green strain rate (zero for any rigid motion, so spin is not braked).
+"""
+
+# No `from __future__ import annotations`: Taichi reads kernel annotations at definition.
+import taichi as ti
+
+__all__ = ["element_forces", "gradient", "hooke", "store_von_mises", "von_mises"]
+
+
+@ti.func
+def gradient(field: ti.template(), c, bx, by, g):
+    """Mean gradient ``sum_k y_k (x) b_k`` and hourglass sum ``sum_k gamma_k y_k`` of a
+    node field ``y`` over an element's nodes ``c``."""
+    G = ti.Matrix.zero(ti.f64, 2, 2)
+    h = ti.Vector.zero(ti.f64, 2)
+    for k in ti.static(range(4)):
+        yk = field[c[k]]
+        G += yk.outer_product(ti.Vector([bx[k], by[k]]))
+        h += g[k] * yk
+    return G, h
+
+
+@ti.func
+def hooke(lam, mu, E):
+    """The St Venant-Kirchhoff law of a symmetric strain (or strain rate) ``E``:
+    ``lambda tr(E) I + 2 mu E``, and ``tr(E)``."""
+    tr = E[0, 0] + E[1, 1]
+    return lam * tr * ti.Matrix.identity(ti.f64, 2) + 2.0 * mu * E, tr
+
+
+@ti.func
+def element_forces(m: ti.template(), e, dt, damped: ti.template(), rec):
+    """Element ``e``'s nodal forces into its slots ``m.fe[4 e + k]`` (no atomics: the node
+    update gathers them in a fixed order); with ``rec``, its strain and hourglass
+    energies and ``det F`` for the read-out."""
+    c = m.conn[e]
+    bx, by, g = m.bx[e], m.by[e], m.gam[e]
+    F, q = gradient(m.x, c, bx, by, g)
+    lam, mu = m.lam[e], m.mu[e]
+    at, k_hg = m.at[e], m.khg[e]
+    E = 0.5 * (F.transpose() @ F - ti.Matrix.identity(ti.f64, 2))
+    S, tr_e = hooke(lam, mu, E)
+    fq = -k_hg * q
+    if ti.static(damped):
+        Fd, qd = gradient(m.v, c, bx, by, g)
+        beta = m.beta_e[e]
+        Ed = 0.5 * (F.transpose() @ Fd + Fd.transpose() @ F)
+        Sd, tr_d = hooke(lam, mu, Ed)
+        S += beta * Sd
+        fq -= beta * k_hg * qd
+        power = beta * (at * (lam * tr_d * tr_d + 2.0 * mu * (Ed * Ed).sum()))
+        # Plain read-add-write: each element owns its slot, no atomic needed.
+        m.e_damp[e] = m.e_damp[e] + dt * (power + beta * k_hg * qd.dot(qd))
+    P = F @ S
+    for k in ti.static(range(4)):
+        m.fe[4 * e + k] = -at * (P @ ti.Vector([bx[k], by[k]])) + g[k] * fq
+    J = F.determinant()
+    if not J > 0.0:
+        ti.atomic_min(m.bad_element[None], e)
+    if rec != 0:
+        m.e_int[e] = at * (0.5 * lam * tr_e * tr_e + mu * (E * E).sum())
+        m.e_hg[e] = 0.5 * k_hg * q.dot(q)
+        m.jac[e] = J
+
+
+@ti.func
+def von_mises(m: ti.template(), e):
+    """Cauchy von Mises stress of element ``e`` at the current positions, Pa (plane
+    strain: ``E_zz = 0``, ``F_zz = 1``)."""
+    c = m.conn[e]
+    F, _ = gradient(m.x, c, m.bx[e], m.by[e], m.gam[e])
+    lam = m.lam[e]
+    E = 0.5 * (F.transpose() @ F - ti.Matrix.identity(ti.f64, 2))
+    S, tr_e = hooke(lam, m.mu[e], E)
+    J = F.determinant()
+    sig = F @ S @ F.transpose() / J
+    szz = lam * tr_e / J
+    sxx, syy, sxy = sig[0, 0], sig[1, 1], sig[0, 1]
+    return ti.sqrt(0.5 * ((sxx - syy) ** 2 + (syy - szz) ** 2 + (szz - sxx) ** 2) + 3.0 * sxy * sxy)
+
+
+# Module-level, not a Model method: Taichi 1.7 compiles a class's kernels without their
+# module's globals, so a method kernel cannot call a module-level function.
+@ti.kernel
+def store_von_mises(m: ti.template()):
+    """Every element's von Mises stress into ``m.von_mises``."""
+    for e in range(m.n_elements):
+        m.von_mises[e] = von_mises(m, e)

@@ -1,0 +1,220 @@
+"""What happens in one time step: the step body, written once.
+
+A step (central difference, leapfrog) from time ``t_n`` runs five phases in order; every
+stepping mode (:mod:`taichi_bearing.solver.stepping`) runs exactly these, and each phase
+starts once every member has finished the one before:
+
+1. ``CLEAR``: each force contributor clears its share of what it sums over the step;
+2. ``FORCES``: element forces (:func:`~taichi_bearing.solver.element_law.element_forces`,
+   into per-element slots) and each contributor's share of its forces (into the
+   fixed-point field ``f_extra``; see :mod:`taichi_bearing.solver.contributor`);
+3. ``GATHER`` (one member): each contributor's serial end, the dead loads (in a fixed
+   order) and the rigid plate's one velocity;
+4. ``NODES``: each node gathers its element forces in a fixed order, adds ``f_extra`` and
+   the loads, and moves: ``v^{n+1/2} = v^{n-1/2} + dt a^n``, ``x^{n+1} = x^n + dt v^{n+1/2}``,
+   then constraints and the work of the non-elastic forces;
+5. ``SENSORS`` (one member): the sensor sums, averaged later over each output interval.
+
+Phases 1, 2 and 4 are split among the members (``share``); 3 and 5 run on member 0. No
+sum depends on how the members split the work, so a run is bit-reproducible on any number
+of threads. :func:`step_times` says when the step is (the only place step times are
+computed).
+"""
+
+# No `from __future__ import annotations`: Taichi reads kernel annotations at definition.
+import taichi as ti
+
+from taichi_bearing.solver.contributor import force_at
+from taichi_bearing.solver.element_law import element_forces
+from taichi_bearing.solver.team import share
+
+__all__ = [
+    "CLEAR",
+    "FORCES",
+    "GATHER",
+    "NODES",
+    "N_PHASES",
+    "SENSORS",
+    "SHARED",
+    "step_phase",
+    "step_times",
+]
+
+CLEAR, FORCES, GATHER, NODES, SENSORS = range(5)
+N_PHASES = 5
+# Phases split among the members (the others run on member 0 alone).
+SHARED = (True, True, False, True, False)
+
+# Node constraint flags (Model.bc), bits.
+FIXED, HELD, ROTATED, PLATE = 1, 2, 4, 8
+
+
+@ti.func
+def step_times(k, n, step0, dt, first0, rec_last, relax):
+    """Step ``k`` of ``n`` launched together from step count ``step0``:
+    ``(first, dt_v, rec, t_load, t_rot)``.
+
+    The first step after a restart (``first0``) is a half step for the velocities; the
+    energies are recorded (``rec``) on the last step when ``rec_last``; loads act at
+    ``t_n`` and prescribed rotations reach ``t_{n+1}``; dynamic relaxation (``relax``)
+    holds the loads at full value and the rotations at angle 0.
+    """
+    t = (step0 + k) * dt
+    first = 0
+    dt_v = dt
+    if first0 != 0 and k == 0:
+        first = 1
+        dt_v = 0.5 * dt
+    rec = 0
+    if rec_last != 0 and k == n - 1:
+        rec = 1
+    t_load = t
+    t_rot = t + dt
+    if relax != 0:
+        t_load = 1e300
+        t_rot = 0.0
+    return first, dt_v, rec, t_load, t_rot
+
+
+@ti.func
+def step_phase(m: ti.template(), phase: ti.template(), member, n_members: ti.template(),
+               dt, first, dt_v, rec, t_load, t_rot, c_mass, damped: ti.template()):  # fmt: skip
+    """Member ``member`` of ``n_members``'s part of one phase of a step of model ``m``
+    (see the module notes). ``c_mass``: dynamic relaxation's mass damping, 1/s (0: none);
+    ``damped``: whether the elements have stiffness-proportional damping."""
+    if ti.static(phase == CLEAR):
+        for c in ti.static(m.kernel_contributors):
+            c.step_begin(member, n_members)
+    if ti.static(phase == FORCES):
+        e0, e1 = share(m.n_elements, member, n_members)
+        for e in range(e0, e1):
+            element_forces(m, e, dt, damped, rec)
+        for c in ti.static(m.kernel_contributors):
+            c.step_share(member, n_members, m.x, m.v, m.mass, m.f_extra, dt, dt_v)
+    if ti.static(phase == GATHER):
+        for c in ti.static(m.kernel_contributors):
+            c.step_end(m.x, m.v, m.mass, m.f_extra, dt, dt_v)
+        apply_loads(m, t_load)
+        plate_update(m, dt_v, c_mass)
+    if ti.static(phase == NODES):
+        i0, i1 = share(m.n_nodes, member, n_members)
+        for i in range(i0, i1):
+            node_update(m, i, t_rot, dt, dt_v, first, c_mass, rec)
+    if ti.static(phase == SENSORS):
+        for s in range(m.n_sensor):
+            sensor_sum(m, s, dt, dt_v, first)
+
+
+@ti.func
+def apply_loads(m: ti.template(), t_load):
+    """Dead loads into ``m.f_load`` at time ``t_load``, ramped, in a fixed order."""
+    # f_load is non-zero only at load nodes: clear those, not every node each step.
+    for k in range(m.n_load):
+        m.f_load[m.load_node[k]] = ti.Vector.zero(ti.f64, 2)
+    for k in range(m.n_load):
+        tr = m.load_ramp[k]
+        amp = 1.0
+        if tr > 0.0 and t_load < tr:
+            amp = t_load / tr
+        m.f_load[m.load_node[k]] += amp * m.load_force[k]
+
+
+@ti.func
+def plate_update(m: ti.template(), dt_v, c_mass):
+    """The rigid plate's one velocity: the total force along its direction over its total
+    mass (element forces gathered as the node update does, plus loads and contributors)."""
+    if ti.static(m.n_plate > 0):
+        d = m.plate_dir[None]
+        f_sum = 0.0
+        m_sum = 0.0
+        for k in range(m.n_plate):
+            i = m.plate_node[k]
+            f = force_at(m.f_extra, i) + m.f_load[i]
+            for s in range(m.adj_ptr[i], m.adj_ptr[i + 1]):
+                f += m.fe[m.adj[s]]
+            f_sum += f.dot(d)
+            m_sum += m.mass[i]
+        vo = m.v[m.plate_node[0]].dot(d)
+        vn = vo + dt_v * f_sum / m_sum
+        if c_mass > 0.0:
+            vn = ((1.0 - 0.5 * c_mass * dt_v) * vo + dt_v * f_sum / m_sum) / (
+                1.0 + 0.5 * c_mass * dt_v
+            )
+        m.plate_v[None] = vn
+
+
+@ti.func
+def rotation_angle(m: ti.template(), g, t):
+    """Angle of prescribed rotation ``g`` at time ``t`` (the law of
+    :func:`taichi_bearing.solver.loads.rotation_angle`)."""
+    p = m.rot_par[g]
+    w0, w1, tr = p[0], p[1], p[2]
+    th = 0.0
+    if t < tr:
+        th = w0 * t + 0.5 * (w1 - w0) * t * t / tr
+    else:
+        th = 0.5 * (w0 + w1) * tr + w1 * (t - tr)
+    return th
+
+
+@ti.func
+def node_update(m: ti.template(), i, t_rot, dt, dt_v, first, c_mass, rec):
+    """Node ``i``: gather the forces, move, apply its constraint, count the work of the
+    non-elastic forces (loads, reactions, contributors)."""
+    f_int = ti.Vector.zero(ti.f64, 2)
+    for s in range(m.adj_ptr[i], m.adj_ptr[i + 1]):
+        f_int += m.fe[m.adj[s]]
+    f = f_int + force_at(m.f_extra, i) + m.f_load[i]
+    m.f_extra[i] = ti.Vector.zero(ti.i64, 2)
+    mass = m.mass[i]
+    vo = m.v[i]
+    xo = m.x[i]
+    vn = vo + dt_v * f / mass
+    if c_mass > 0.0:  # dynamic relaxation: viscous mass damping
+        vn = ((1.0 - 0.5 * c_mass * dt_v) * vo + dt_v * f / mass) / (1.0 + 0.5 * c_mass * dt_v)
+    flag = m.bc[i]
+    if flag & HELD:
+        d = m.held_dir[i]
+        vn -= vn.dot(d) * d
+    if flag & PLATE:
+        vn = m.plate_v[None] * m.plate_dir[None]
+    xn = xo + dt * vn
+    if flag & ROTATED:
+        g = m.rot_group[i]
+        th = rotation_angle(m, g, t_rot)
+        cen = m.rot_center[g]
+        r = m.X[i] - cen
+        cs, sn = ti.cos(th), ti.sin(th)
+        xn = cen + ti.Vector([cs * r[0] - sn * r[1], sn * r[0] + cs * r[1]])
+        vn = (xn - xo) / dt
+    if flag & FIXED:
+        xn = m.X[i]
+        vn = ti.Vector.zero(ti.f64, 2)
+    an = (vn - vo) / dt_v
+    fo = mass * an - f_int
+    if first == 0:
+        # Trapezoidal work over [t_{n-1}, t_n]: x^n - x^{n-1} = dt v^{n-1/2}.
+        m.work[i] = m.work[i] + 0.5 * dt * vo.dot(m.f_other[i] + fo)
+    m.f_other[i] = fo
+    if rec != 0:
+        vi = vo
+        if first == 0:
+            vi = 0.5 * (vo + vn)
+        m.v_int[i] = vi
+    m.x[i] = xn
+    m.v[i] = vn
+    m.a[i] = an
+
+
+@ti.func
+def sensor_sum(m: ti.template(), s, dt, dt_v, first):
+    """Add sensor ``s``'s displacement, velocity (at ``t_n``) and acceleration to its sums."""
+    i = m.sensor_node[s]
+    vn = m.v[i]
+    an = m.a[i]
+    vo = vn - dt_v * an
+    vi = vo
+    if first == 0:
+        vi = 0.5 * (vo + vn)
+    u = m.x[i] - dt * vn - m.X[i]
+    m.sensor_sum[s] = m.sensor_sum[s] + ti.Vector([u[0], u[1], vi[0], vi[1], an[0], an[1]])

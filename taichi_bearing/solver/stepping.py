@@ -1,0 +1,192 @@
+"""How the steps are launched: how many steps per kernel launch, on how many threads.
+
+:func:`advance` is the one time loop of the solver; the transient driver
+(:func:`taichi_bearing.solver.engine.run_transient`, per output sample) and dynamic
+relaxation (:func:`taichi_bearing.solver.relaxation.relax`, per damping update) call it.
+Every mode runs the same step body (:func:`taichi_bearing.solver.step.step_phase`, phase
+by phase); they differ only in how the phases are launched:
+
+``serial``
+    Chunks of steps in one launch on the calling thread (one CPU thread, or a mesh small
+    enough that dispatching a parallel loop costs more than the loop).
+``team``
+    Chunks of steps in one launch on several CPU threads, the members meeting at spin
+    barriers between phases (:mod:`taichi_bearing.solver.team`).
+``parallel``
+    One launch per step, each shared phase a parallel loop over many members (a GPU, or
+    more CPU threads than cores); with a Python contributor
+    (:class:`~taichi_bearing.solver.contributor.ForceContributor` with ``in_kernel``
+    False), two launches per step with its :meth:`add_forces` between.
+
+A chunk ends where a contributor asks for Python again (the contact's search-grid check).
+"""
+
+# No `from __future__ import annotations`: Taichi reads kernel annotations at definition.
+import os
+
+import taichi as ti
+
+from taichi_bearing.solver.backend import (
+    current_arch,
+    current_threads,
+    parallel_members,
+    serial_loops,
+)
+from taichi_bearing.solver.step import GATHER, N_PHASES, SHARED, step_phase, step_times
+from taichi_bearing.solver.team import TEAM_MAX_THREADS, barrier, join
+
+__all__ = ["MODES", "SERIAL_MAX_ELEMENTS", "advance", "choose_mode", "team_size"]
+
+MODES = ("serial", "team", "parallel")
+# Below this many elements a chunk of steps runs serially (launch-bound regime).
+SERIAL_MAX_ELEMENTS = 3000
+
+
+@ti.kernel
+def _k_chunk(m: ti.template(), n: ti.i32, step0: ti.i32, dt: ti.f64, first0: ti.i32,
+             c_mass: ti.f64, rec_last: ti.i32, relax: ti.i32, damped: ti.template(),
+             n_members: ti.template()):  # fmt: skip
+    """``n`` steps in one launch, on the calling thread (``n_members`` 1) or by a team."""
+    if ti.static(n_members == 1):
+        ti.loop_config(serialize=True)
+        for k in range(n):
+            first, dt_v, rec, t_load, t_rot = step_times(k, n, step0, dt, first0, rec_last, relax)
+            for p in ti.static(range(N_PHASES)):
+                step_phase(m, p, 0, 1, dt, first, dt_v, rec, t_load, t_rot, c_mass, damped)
+    else:
+        ti.loop_config(serialize=True)
+        for _ in range(1):
+            m.team.reset()
+        for _item in range(n_members * 1024):
+            member = ti.global_thread_idx()
+            if join(m.team, member):
+                _team_member(m, member, n, step0, dt, first0, c_mass, rec_last, relax,
+                             damped, n_members)  # fmt: skip
+
+
+@ti.func
+def _team_member(m: ti.template(), member, n, step0, dt, first0, c_mass, rec_last, relax,
+                 damped: ti.template(), n_members: ti.template()):  # fmt: skip
+    """Member ``member``'s ``n`` steps: each phase (its share, or member 0 alone), then a
+    barrier. The sensors (member 0) need none before the next step's clearing."""
+    passed = 0
+    for k in range(n):
+        first, dt_v, rec, t_load, t_rot = step_times(k, n, step0, dt, first0, rec_last, relax)
+        for p in ti.static(range(N_PHASES)):
+            if passed >= 0:
+                if ti.static(SHARED[p]):
+                    step_phase(m, p, member, n_members, dt, first, dt_v, rec, t_load, t_rot,
+                               c_mass, damped)  # fmt: skip
+                elif member == 0:
+                    step_phase(m, p, 0, 1, dt, first, dt_v, rec, t_load, t_rot, c_mass, damped)
+                if ti.static(p < N_PHASES - 1):
+                    passed = barrier(m.team, passed, n_members)
+
+
+@ti.kernel
+def _k_phases(m: ti.template(), p0: ti.template(), p1: ti.template(), step0: ti.i32,
+              dt: ti.f64, first0: ti.i32, c_mass: ti.f64, rec_last: ti.i32, relax: ti.i32,
+              damped: ti.template(), n_members: ti.template()):  # fmt: skip
+    """Phases ``p0 <= p < p1`` of one step, each a loop over ``n_members`` members
+    (parallel, but for one member) or member 0 alone."""
+    for p in ti.static(range(p0, p1)):
+        if ti.static(SHARED[p]):
+            ti.loop_config(serialize=n_members == 1)
+            for member in range(n_members):
+                first, dt_v, rec, t_load, t_rot = step_times(0, 1, step0, dt, first0,
+                                                             rec_last, relax)  # fmt: skip
+                step_phase(m, p, member, n_members, dt, first, dt_v, rec, t_load, t_rot,
+                           c_mass, damped)  # fmt: skip
+        else:
+            ti.loop_config(serialize=True)
+            for _ in range(1):
+                first, dt_v, rec, t_load, t_rot = step_times(0, 1, step0, dt, first0,
+                                                             rec_last, relax)  # fmt: skip
+                step_phase(m, p, 0, 1, dt, first, dt_v, rec, t_load, t_rot, c_mass, damped)
+
+
+def team_size(model) -> int:
+    """Threads for team stepping (0: not possible): the CPU with several threads, no more
+    than the cores this process may run on (a member spinning at a barrier while another
+    waits for a core would waste its time slice), and no Python contributor."""
+    threads = current_threads()
+    cores = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else threads
+    if current_arch() != "cpu" or not 2 <= threads <= min(cores, TEAM_MAX_THREADS):
+        return 0
+    if model.python_contributors:
+        return 0
+    return threads
+
+
+def choose_mode(model, mode: str | None = None) -> str:
+    """The stepping mode for ``model``: ``mode`` if given (checked), else ``serial`` on
+    one CPU thread or a small mesh, else ``team`` where possible, else ``parallel``.
+    A Python contributor always means ``parallel`` (its forces come between launches)."""
+    if mode is not None and mode not in MODES:
+        raise ValueError(f"mode must be one of {MODES}, got {mode!r}")
+    if model.python_contributors:
+        if mode not in (None, "parallel"):
+            raise ValueError(f"{mode} stepping cannot call a Python contributor's add_forces")
+        return "parallel"
+    if mode == "team" and team_size(model) == 0:
+        raise ValueError("team stepping needs the CPU with 2 or more threads, within the cores")
+    if mode is not None:
+        return mode
+    if model.n_elements <= SERIAL_MAX_ELEMENTS or serial_loops()[1]:
+        return "serial"
+    return "team" if team_size(model) else "parallel"
+
+
+def advance(model, n: int, record_last: bool = False, mode: str | None = None,
+            relax_damping: float | None = None) -> None:  # fmt: skip
+    """Take ``n`` steps of ``model`` (see :meth:`Model.advance`)."""
+    if n <= 0:
+        return
+    mode = choose_mode(model, mode)
+    model.freeze_contributors()
+    relax = relax_damping is not None
+    c_mass = float(relax_damping) if relax else 0.0
+    dt, damped = model.dt, int(model.damped)
+    contributors = model.kernel_contributors
+    if mode != "parallel":
+        n_members = 1 if mode == "serial" else team_size(model)
+        done = 0
+        while done < n:
+            chunk = n - done
+            for c in contributors:
+                chunk = max(1, min(chunk, c.before_steps(model, chunk)))
+            last = int(record_last and done + chunk == n)
+            _k_chunk(model, chunk, model.step_count, dt, int(model.first), c_mass, last,
+                     int(relax), damped, n_members)  # fmt: skip
+            if n_members > 1 and model.team.failed[None]:
+                raise RuntimeError(
+                    f"team stepping: a barrier waited in vain for one of {n_members} CPU "
+                    "threads; run with one thread (--threads 1)"
+                )
+            _after(model, contributors, chunk, relax)
+            done += chunk
+        return
+    members = parallel_members()
+    python = model.python_contributors
+    for k in range(n):
+        rec = int(record_last and k == n - 1)
+        args = (model.step_count, dt, int(model.first), c_mass, rec, int(relax), damped, members)
+        for c in contributors:
+            c.before_steps(model, 1)
+        if python:
+            _k_phases(model, 0, GATHER, *args)
+            for c in python:
+                c.add_forces(model, model.step_count * dt)
+            _k_phases(model, GATHER, N_PHASES, *args)
+        else:
+            _k_phases(model, 0, N_PHASES, *args)
+        _after(model, contributors, 1, relax)
+
+
+def _after(model, contributors, n: int, relax: bool) -> None:
+    """Bookkeeping after ``n`` steps ran: contributors' counts, the clock."""
+    for c in contributors:
+        c.after_steps(model, n)
+    model.first = False
+    if not relax:
+        model.step_count += n
