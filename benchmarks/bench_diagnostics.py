@@ -7,7 +7,7 @@ run, on the same signal, and checks they agree:
   (``kurtogram_reference.py``: every band filtered with lfilter, then decimated);
 - the full ``diagnose`` against the same ``diagnose`` with the direct kurtogram swapped in.
 
-Goals (issue 2, on the 2-core machine): kurtogram < 0.3 s and >= 2x the reference with
+Goals (on the 2-core machine): kurtogram < 0.3 s and >= 2x the reference with
 identical output; diagnose < 1 s.
 
 Usage: ``python benchmarks/bench_diagnostics.py [--repeat N]``

@@ -10,8 +10,13 @@ import math
 
 import numpy as np
 
-from taichi_bearing.output.histories import roller_force_columns
 from taichi_bearing.output.recorder import Recorder
+from taichi_bearing.run_folder import (
+    CAGE_COLUMNS,
+    ROLLER_MOTION_QUANTITIES,
+    roller_force_columns,
+    roller_motion_column,
+)
 from taichi_bearing.starter import roller_kinematics_matrix
 
 __all__ = ["CageRecorder", "ContactForceRecorder", "RollerMotionRecorder", "roller_motion_columns"]
@@ -39,9 +44,7 @@ def roller_motion_columns(n_rollers: int) -> list[str]:
     """``roller<j>_angle_rad`` (centre, from 12 o'clock, CCW, unwrapped),
     ``roller<j>_spin_rad_s`` (absolute spin, CCW +) and ``roller<j>_radius_m`` (distance of
     the centre from the bearing centre: shows a roller rising into an outer-race spall)."""
-    return [
-        f"roller{j}_{q}" for q in ("angle_rad", "spin_rad_s", "radius_m") for j in range(n_rollers)
-    ]
+    return [roller_motion_column(j, q) for q in ROLLER_MOTION_QUANTITIES for j in range(n_rollers)]
 
 
 class RollerMotionRecorder(Recorder):
@@ -98,7 +101,7 @@ class CageRecorder(Recorder):
     and speed of the rollers (from a :class:`RollerMotionRecorder` sampled first).
     """
 
-    columns = ["cage_angle_rad", "cage_speed_rad_s"]
+    columns = list(CAGE_COLUMNS)
 
     def __init__(self, cage=None, rollers: RollerMotionRecorder | None = None) -> None:
         if cage is None and rollers is None:

@@ -13,7 +13,6 @@ plain data of the one before: the case, the mesh (:mod:`taichi_bearing.mesh`), t
 from __future__ import annotations
 
 import dataclasses
-import math
 import time
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -29,12 +28,11 @@ from taichi_bearing.mesh.types import Mesh
 from taichi_bearing.output.checkpoint import fingerprint, latest_checkpoint
 from taichi_bearing.output.histories import read_histories
 from taichi_bearing.output.summary import write_summary
+from taichi_bearing.post.recheck import figures_and_report, write_partial_summary
 from taichi_bearing.recorders import CageRecorder, ContactForceRecorder, RollerMotionRecorder
 from taichi_bearing.run_folder import (
     CASE_FILE,
     CHECKPOINTS_DIR,
-    HISTORIES_FILE,
-    HISTORIES_PARTS_DIR,
     MESH_INFO_FILE,
     MESH_STATISTICS_FILE,
     PRELOAD_FILE,
@@ -44,14 +42,12 @@ from taichi_bearing.run_folder import (
     STATUS_INTERRUPTED,
     STATUS_RUNNING,
     STATUS_STOPPED,
-    load_run,
-    missing_for_checks,
     read_json,
     rolling_rates_entry,
 )
 from taichi_bearing.starter import Setup, align_rollers, build_setup, rolling_rates
 
-__all__ = ["BearingModel", "build_model", "preload", "recheck_run", "run_case", "stage_mesh"]
+__all__ = ["BearingModel", "build_model", "preload", "run_case", "stage_mesh"]
 
 
 @dataclass
@@ -200,7 +196,7 @@ def _write_case(case: Case, out: Path) -> None:
         Path(tmp).write_text(yaml.safe_dump(case_to_dict(case), sort_keys=False))
 
 
-def _check_entries(case: Case, mesh: Mesh) -> dict:
+def check_entries(case: Case, mesh: Mesh) -> dict:
     """The ``preload.json`` entries the checks read besides the preload's own result: the
     flexible-ring reference forces, solved on this mesh (one sparse factorisation of the
     rings' stiffness), and the ideal rolling rates the transient starts from."""
@@ -289,7 +285,7 @@ def run_case(
         times["preload"] = float(pre.get("wall_s", 0.0))
         if REFERENCE_KEY not in pre or ROLLING_RATES_KEY not in pre:
             # a folder from before the preload recorded them: solve them on this mesh
-            pre.update(_check_entries(case, mesh))
+            pre.update(check_entries(case, mesh))
             write_json(pre_path, pre)
     else:
         t0 = time.perf_counter()
@@ -300,7 +296,7 @@ def run_case(
             f"max roller force {max(pre['outer_force_N']):.4g} N ({times['preload']:.1f} s)"
         )
         t0 = time.perf_counter()
-        pre.update(_check_entries(case, mesh))
+        pre.update(check_entries(case, mesh))
         times["reference"] = time.perf_counter() - t0
         write_json(out / PRELOAD_FILE, pre)
         say(
@@ -323,7 +319,7 @@ def run_case(
     inputs = {"mesh_statistics": stats, "preload": pre, "setup_notes": bm.setup.notes}
     # status "running" until the end: what a run killed hard (kill -9) leaves as summary
     # (the time step is set by the transient, to fit the sample interval)
-    _write_partial(out, {**summary, **size, **inputs})
+    write_partial_summary(out, {**summary, **size, **inputs})
     t0 = time.perf_counter()
     interrupted = None
     try:
@@ -360,7 +356,7 @@ def run_case(
             STATUS_INTERRUPTED if isinstance(interrupted, KeyboardInterrupt) else STATUS_STOPPED
         )
         summary["stop_reason"] = str(interrupted) or type(interrupted).__name__
-        _write_partial(out, summary)
+        write_partial_summary(out, summary)
         raise interrupted
     say(
         f"transient: {result.steps} steps in {times['transient']:.1f} s "
@@ -374,109 +370,12 @@ def run_case(
     times["post"] = time.perf_counter() - t0
     write_summary(out, summary)
     if post:
-        _figures_and_report(out, say)
+        figures_and_report(out, say)
         times["post"] = time.perf_counter() - t0
         write_summary(out, summary)
     failed = [k for k, c in summary["checks"].items() if c["passed"] is False]
     say(f"checks: {len(summary['checks']) - len(failed)} passed, failed: {failed or 'none'}")
     return summary
-
-
-def recheck_run(out_dir: str | Path, *, post: bool = True, remesh: bool = False, say=print) -> dict:
-    """Redo the checks (and figures and report) of a run from its folder.
-
-    Pure post-processing: the case, the mesh info, the preload (with the flexible-ring
-    reference) and the histories are read from the folder
-    (:func:`taichi_bearing.run_folder.load_run`); nothing is meshed or solved. What the run
-    measured (steps, times) is kept from ``summary.json``. A run that did not finish
-    (Ctrl-C, a solver stop, ``kill -9`` with the histories only in parts) is checked on
-    what was recorded and marked partial: ``summary["partial"]`` says how far it got.
-
-    Parameters
-    ----------
-    out_dir : str or path
-        The run folder.
-    post : bool
-        Also redraw the figures and rewrite the report.
-    remesh : bool
-        For a folder written before runs recorded ``mesh_info.json`` and the reference:
-        mesh ``case.yaml`` again and solve them now (written to the folder; the
-        ``preload.json`` entries say they were computed by ``post --remesh``).
-    say : callable
-        Where notes go.
-
-    Returns
-    -------
-    dict
-        The summary written.
-
-    Raises
-    ------
-    InputError
-        Not a run folder, no histories, or the folder lacks what the checks need (one
-        line naming it).
-    """
-    from taichi_bearing.case import load_case
-    from taichi_bearing.checks import run_checks
-
-    out = Path(out_dir)
-    try:
-        run = load_run(out)
-        if remesh and missing_for_checks(run) and (out / CASE_FILE).is_file():
-            _remesh_for_checks(load_case(out / CASE_FILE), run)
-            run = load_run(out)
-    except (FileNotFoundError, ValueError) as exc:
-        raise InputError(" ".join(str(exc).split())) from None
-    missing = missing_for_checks(run)
-    if missing:
-        hint = "" if remesh else "; `post --remesh` meshes case.yaml and solves them now"
-        raise InputError(
-            f"{out}: lacks {', '.join(missing)} (a run folder from before runs recorded them){hint}"
-        )
-    case = load_case(out / CASE_FILE)
-    summary = {"case_name": case.name, **run.summary}
-    t0 = time.perf_counter()
-    summary.update(run_checks(case, run.mesh_info, run.histories, run.preload))
-    if run.partial:
-        summary["partial"] = {
-            "status": run.status,
-            "recorded_until_s": run.t_end,
-            "duration_s": case.run.duration,
-            "histories": HISTORIES_FILE if run.merged else f"{HISTORIES_PARTS_DIR}/ only",
-            "note": "the run did not finish"
-            + (" (killed, or still going)" if run.status in (None, STATUS_RUNNING) else "")
-            + "; the checks are of what was recorded",
-        }
-        say(
-            f"partial run (status {run.status}): checked on the "
-            f"{1e3 * run.t_end:.4g} ms recorded of {1e3 * case.run.duration:.4g} ms"
-        )
-    else:
-        summary.pop("partial", None)
-    write = _write_partial if run.partial else write_summary
-    write(out, summary)
-    if post:
-        _figures_and_report(out, say)
-    summary.setdefault("stage_times_s", {})["post"] = time.perf_counter() - t0
-    write(out, summary)
-    return summary
-
-
-def _remesh_for_checks(case: Case, run) -> None:
-    """Write what a run folder from before ``mesh_info.json`` and the ``preload.json``
-    check entries lacks, from a new mesh of its case (``post --remesh``)."""
-    mesh, _ = stage_mesh(case)
-    if run.mesh_info is None:
-        write_json(run.run_dir / MESH_INFO_FILE, mesh.info)
-    lacking = [k for k in (REFERENCE_KEY, ROLLING_RATES_KEY) if k not in (run.preload or {})]
-    if run.preload is not None and lacking:
-        entries = _check_entries(case, mesh)
-        pre = {**run.preload, **{k: entries[k] for k in lacking}}
-        pre["computed_after_the_run"] = {
-            "keys": lacking,
-            "note": "computed by `post --remesh` from case.yaml (the run folder predates them)",
-        }
-        write_json(run.run_dir / PRELOAD_FILE, pre)
 
 
 def _steps_this_call(result, model, case: Case, resume: bool) -> int:
@@ -485,29 +384,3 @@ def _steps_this_call(result, model, case: Case, resume: bool) -> int:
         return int(model.step_count)
     per_sample = round(1.0 / (case.run.sample_rate * result.dt))
     return len(result.rows) * per_sample + (0 if resume else 1)
-
-
-def _write_partial(out: Path, summary: dict) -> None:
-    import warnings
-
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore")  # the missing keys are listed in the file
-        write_summary(out, summary)
-
-
-def _figures_and_report(out: Path, say) -> None:
-    """Figures and report by ``taichi_bearing.post`` when those modules are present."""
-    for module, func in (("run_figures", "make_run_figures"), ("report", "write_report")):
-        try:
-            mod = __import__(f"taichi_bearing.post.{module}", fromlist=[func])
-        except ImportError:
-            say(f"post: taichi_bearing.post.{module} not available, skipped")
-            continue
-        try:
-            getattr(mod, func)(out)
-        except Exception as exc:  # noqa: BLE001 - the run's results stand without them
-            say(f"post: {func} failed: {type(exc).__name__}: {exc}")
-
-
-def nan_to_none(x: float) -> float | None:
-    return None if x is None or not math.isfinite(x) else float(x)

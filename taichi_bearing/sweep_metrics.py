@@ -5,7 +5,7 @@ spectrum level of the analysed sensor acceleration at BPFO, and the contact forc
 roller that passed the spall (``summary["events"]``) on the outer and inner raceway: their
 peak and the maximum of their Hilbert envelope about the force before the spall, and the
 re-stressing impulse (largest force on the roller, either raceway, in the re-stressing
-burst after it meets the exit edge: the window of :data:`taichi_bearing.checks.EXIT_BURST_S`).
+burst after it meets the exit edge: the window of :data:`taichi_bearing.passages.EXIT_BURST_S`).
 """
 
 from __future__ import annotations
@@ -16,7 +16,7 @@ import os
 import numpy as np
 
 from diagnostics.envelope import envelope
-from taichi_bearing.checks import EXIT_BURST_S
+from taichi_bearing.passages import EXIT_BURST_S
 from taichi_bearing.run_folder import (
     RACES,
     TIME_COLUMN,

@@ -1,4 +1,4 @@
-"""Bad input, as a new user gives it (issue 22): the API raises one ValueError that names the
+"""Bad input, as a new user gives it: the API raises one ValueError that names the
 problem, the command line prints one line naming the argument or file and exits with 2."""
 
 from __future__ import annotations

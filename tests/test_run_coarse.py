@@ -18,7 +18,7 @@ from taichi_bearing.quasistatic import analytical_roller_forces
 from taichi_bearing.starter import rolling_rates
 
 COARSE = "cases/validation/coarse_spall.yaml"
-THREADS = 1  # reproducible contact sums (atomics on one thread)
+THREADS = 1  # the same histories as on any thread count; no spinning team on a shared VM
 
 
 @pytest.fixture(scope="module")
@@ -92,8 +92,8 @@ def test_energy_balance(coarse_run):
 
 
 def test_entry_is_gradual_and_exit_is_a_burst(coarse_run):
-    """Issue 6: entering the spall the roller's force falls with no impulse; leaving it,
-    the force returns as several short impulses; the acceleration burst at exit is much
+    """Entering the spall the roller's force falls with no impulse; leaving it, the
+    force returns as several short impulses; the acceleration burst at exit is much
     larger than at entry or at the impact on the floor."""
     case, _, summary, hist = coarse_run
     events = summary["events"]

@@ -21,7 +21,7 @@ from taichi_bearing.quasistatic import analytical_roller_forces
 from taichi_bearing.starter import build_setup, outer_surface_nodes
 
 HOUSING = "cases/validation/rigid_housing.yaml"
-THREADS = 1  # reproducible contact sums (atomics on one thread)
+THREADS = 1  # the same histories as on any thread count; no spinning team on a shared VM
 
 
 def _preload(case):

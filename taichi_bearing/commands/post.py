@@ -27,7 +27,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 
 def main(args: argparse.Namespace) -> int:
-    from taichi_bearing.simulate import recheck_run
+    from taichi_bearing.post.recheck import recheck_run
 
     summary = recheck_run(args.run_dir, post=args.post, remesh=args.remesh)
     failed = [k for k, c in summary["checks"].items() if c["passed"] is False]

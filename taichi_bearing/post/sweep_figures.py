@@ -15,7 +15,7 @@ import numpy as np
 import pandas as pd
 
 from diagnostics.files import atomic_path
-from taichi_bearing.checks import EXIT_BURST_S
+from taichi_bearing.passages import EXIT_BURST_S
 from taichi_bearing.sweep_metrics import METRICS, WINDOW_S
 
 __all__ = ["increase_table", "trend_sentence", "write_sweep_outputs"]

@@ -46,6 +46,14 @@ import taichi as ti
 
 from taichi_bearing.solver.backend import serial_loops
 from taichi_bearing.solver.contact_law import friction_force, normal_force
+from taichi_bearing.solver.contact_patch import arc_frame, patch_overlap
+from taichi_bearing.solver.contact_search import (
+    build_grid,
+    candidate,
+    cell_xy,
+    list_active,
+    surface_motion,
+)
 from taichi_bearing.solver.contact_setup import (
     ContactPair,
     ContactParameters,
@@ -265,49 +273,6 @@ class PenaltyContact(ForceContributor):
     # ------------------------------------------------------------------ search grid
 
     @ti.func
-    def _cell_xy(self, p):
-        cx = ti.min(ti.max(int(ti.floor((p[0] - self._ox) / self._h)), 0), self._nx - 1)
-        cy = ti.min(ti.max(int(ti.floor((p[1] - self._oy) / self._h)), 0), self._ny - 1)
-        return cx, cy
-
-    @ti.func
-    def _seg_cells(self, x: ti.template(), s):
-        """Cell range covered by segment s's bounding box grown by ``grow``."""
-        a, b = x[self.seg_a[s]], x[self.seg_b[s]]
-        x0, y0 = self._cell_xy(ti.min(a, b) - self._grow)
-        x1, y1 = self._cell_xy(ti.max(a, b) + self._grow)
-        return x0, y0, x1, y1
-
-    @ti.kernel
-    def _k_build(self, x: ti.template()):
-        nx, ny = self._nx, self._ny
-        for c in range(nx * ny + 1):
-            self.cell_start[c] = 0
-        for s in range(self.n_seg):
-            x0, y0, x1, y1 = self._seg_cells(x, s)
-            for cy in range(y0, y1 + 1):
-                for cx in range(x0, x1 + 1):
-                    ti.atomic_add(self.cell_start[cy * nx + cx + 1], 1)
-        ti.loop_config(serialize=True)
-        for c in range(nx * ny):
-            self.cell_start[c + 1] += self.cell_start[c]
-        for c in range(nx * ny):
-            self.cell_fill[c] = self.cell_start[c]
-        self.status[0] = 0
-        for s in range(self.n_seg):
-            x0, y0, x1, y1 = self._seg_cells(x, s)
-            for cy in range(y0, y1 + 1):
-                for cx in range(x0, x1 + 1):
-                    k = ti.atomic_add(self.cell_fill[cy * nx + cx], 1)
-                    if k < self.cap:
-                        self.cell_items[k] = s
-                        self.cell_surf[k] = self.seg_surf[s]
-                    else:
-                        self.status[0] = 1
-        for t in range(self.n_track):
-            self.x_ref[t] = x[self.track[t]]
-
-    @ti.func
     def _open(self, q):
         """No contact: the tangential spring's energy is lost (counted as friction).
         Nothing to do for a query already open (most of them)."""
@@ -320,78 +285,8 @@ class PenaltyContact(ForceContributor):
             self.q_en[q] = 0.0
             self.q_et[q] = 0.0
 
-    @ti.func
-    def _candidate(self, S, i, k, xp, x: ti.template()):
-        """Cell item k for query node i (at xp) of surface S: (segment, -1 when it is not
-        of a paired surface or holds the node; xi, the node's projection on it, not
-        clamped; squared true distance from the node to it)."""
-        s = -1
-        xi = 0.0
-        d2 = 1e300
-        if self.pass_pair[S * self.n_surf + self.cell_surf[k]] >= 0:
-            sk = self.cell_items[k]
-            ia, ib = self.seg_a[sk], self.seg_b[sk]
-            if ia != i and ib != i:
-                a = x[ia]
-                d = x[ib] - a
-                xi = (xp - a).dot(d) / d.dot(d)
-                r = xp - (a + ti.min(ti.max(xi, 0.0), 1.0) * d)
-                d2 = r.dot(r)
-                s = sk
-        return s, xi, d2
-
-    @ti.kernel
-    def _k_activate(self, x: ti.template()):
-        """List, in query order, the queries within reach of a paired segment: true
-        distance at most capture depth + margin + the query's patch reach (+ the largest
-        arc sagitta), over the segments of its cell and the neighbouring ones.
-
-        Until the next build a node and a segment's ends each move at most half the
-        margin, so a query left out stays further than capture + patch reach from every
-        segment: its own position is more than the capture depth behind any segment it
-        projects onto, and its patch cannot reach one in front (either way no contact).
-        It could only fall behind the line of a segment it does not project onto (beyond
-        the segment's end), which is no contact either. So skipping it changes nothing,
-        and most queries are skipped (a roller's surface is near a raceway only around
-        its two contacts). A query left out while still holding a contact state is
-        opened, as the contact loop would do at its next call."""
-        nx, ny = self._nx, self._ny
-        for q in range(self.n_query):
-            S = self.q_surf[q]
-            i = self.q_node[q]
-            xp = x[i]
-            hq = self.q_hmax[q]
-            reach = self._activate_base + hq * (1.0 + 0.5 * self._kappa_max * hq)
-            cx, cy = self._cell_xy(xp)
-            near = 0
-            for oy in range(ti.max(cy - 1, 0), ti.min(cy + 2, ny)):
-                for ox in range(ti.max(cx - 1, 0), ti.min(cx + 2, nx)):
-                    c = oy * nx + ox
-                    for k in range(self.cell_start[c], self.cell_start[c + 1]):
-                        s, _, d2 = self._candidate(S, i, k, xp, x)
-                        if s >= 0 and d2 <= reach * reach:
-                            near = 1
-            self.q_near[q] = near
-        ti.loop_config(serialize=True)  # ordered, reproducible list
-        for _ in range(1):
-            n = 0
-            for q in range(self.n_query):
-                if self.q_near[q] != 0:
-                    self.q_active[n] = q
-                    n += 1
-                else:
-                    self._open(q)
-            self.status[1] = n
-
-    @ti.kernel
-    def _k_motion(self, x: ti.template(), v: ti.template()):
-        self.motion[0] = 0.0
-        self.motion[1] = 0.0
-        ti.loop_config(serialize=self._serial_light)
-        for t in range(self.n_track):
-            i = self.track[t]
-            ti.atomic_max(self.motion[0], (x[i] - self.x_ref[t]).norm())
-            ti.atomic_max(self.motion[1], v[i].norm())
+    def _k_activate(self, x) -> None:
+        list_active(self, x)
 
     def _check_grid(self, model: Model) -> None:
         """Rebuild the grid if a surface node has moved half the margin; schedule the next
@@ -400,12 +295,12 @@ class PenaltyContact(ForceContributor):
         half = 0.5 * self.grid.margin
         moved = 0.0
         if self._built:
-            self._k_motion(model.x, model.v)
+            surface_motion(self, model.x, model.v)
             moved, speed = (float(a) for a in self.motion.to_numpy())
         if not self._built or moved > 0.5 * half:
             self._rebuild(model)
             moved = 0.0
-            self._k_motion(model.x, model.v)
+            surface_motion(self, model.x, model.v)
             speed = float(self.motion[1])
         steps = (half - moved) / (4.0 * max(speed, 1e-30) * model.dt)
         self._countdown = int(min(max(steps, 1.0), 1000.0))
@@ -422,7 +317,7 @@ class PenaltyContact(ForceContributor):
         return int(self.status[1])
 
     def _rebuild(self, model: Model) -> None:
-        self._k_build(model.x)
+        build_grid(self, model.x)
         if int(self.status[0]):
             raise RuntimeError("contact search grid overflow: segments far larger than meshed")
         self._k_activate(model.x)
@@ -465,14 +360,14 @@ class PenaltyContact(ForceContributor):
         i = self.q_node[q]
         S = self.q_surf[q]
         xp = x[i]
-        cx, cy = self._cell_xy(xp)
+        cx, cy = cell_xy(self, xp)
         c = cy * self._nx + cx
         best = -1
         best_d2 = 1e300
         best_pen = 0.0
         best_xi = 0.0
         for k in range(self.cell_start[c], self.cell_start[c + 1]):
-            s, xi, d2 = self._candidate(S, i, k, xp, x)
+            s, xi, d2 = candidate(self, S, i, k, xp, x)
             # Closest segment (true distance, so an extended line beyond a convex
             # vertex never wins); ties to the lower index.
             if s >= 0 and (d2 < best_d2 or (d2 == best_d2 and s < best)):
@@ -498,108 +393,13 @@ class PenaltyContact(ForceContributor):
                 kap = ti.abs(self.q_kappa[q] + self.seg_kappa[best])
                 reach = hq * (1.0 + 0.5 * kap * hq)
                 if best >= 0 and best_pen + reach > 0.0:
-                    pen_eff, e_el, best_pen = self._patch(q, i, best, best_pen, best_xi, x)
+                    pen_eff, e_el, best_pen = patch_overlap(self, q, i, best, best_pen, best_xi, x)
         if best_pen <= 0.0 or best_pen >= self._capture:
             best = -1
         if best < 0:
             self._open(q)
         else:
             self._apply(q, i, S, best, pen_eff, e_el, best_xi, x, v, mass, f_ext, dt)
-
-    @ti.func
-    def _frame(self, s, xi, x: ti.template()):
-        """Unit tangent and outward normal of segment s's arc at xi in [0, 1]: the
-        chord's turned by kappa L (xi - 1/2) (the chord's own when kappa = 0)."""
-        d = x[self.seg_b[s]] - x[self.seg_a[s]]
-        ln = d.norm()
-        tc = d / ln
-        th = self.seg_kappa[s] * ln * (xi - 0.5)
-        cs, sn = ti.cos(th), ti.sin(th)
-        tv = ti.Vector([cs * tc[0] - sn * tc[1], sn * tc[0] + cs * tc[1]])
-        return tv, ti.Vector([tv[1], -tv[0]])
-
-    @ti.func
-    def _patch(self, q, i, s, pen0, xi_raw, x: ti.template()):
-        """Penetration of the query's tributary arc (half-way to each neighbour) into
-        segment s's arc, ``p(r) = pen0 - r (u . n) - (kappa_q + kappa_s) r^2 / 2`` along
-        the arc length r from the node (u: the query surface's direction, reversed).
-
-        Returns (mean of max(0, p) over the patch, mean of max(0, p)^2 / 2, largest p):
-        the first is the penalty's penetration (its sum over nodes is the integral of the
-        overlap along the surface, which does not ripple as a polygon rolls), the second
-        the stored energy per unit k. Exact (3-point Gauss on each piece where p > 0).
-        """
-        xi = ti.min(ti.max(xi_raw, 0.0), 1.0)
-        tv, nv = self._frame(s, xi, x)
-        xp, xa, xb = x[i], x[self.q_prev[q]], x[self.q_next[q]]
-        h = 0.25 * ((xp - xa).norm() + (xb - xp).norm())  # half the tributary length
-        u = xa - xb
-        un = u.norm()
-        b = 0.0
-        # The patch point at r is xp + r u/|u|; its projection on the chord moves by
-        # g r. At a corner end (a spall edge) the segment's surface stops: only the
-        # part of the patch that projects inside counts (the rest faces the wall or
-        # the void; the other pass catches a corner pressing into this surface).
-        lo, hi = -h, h
-        if un > 0.0:
-            b = u.dot(nv) / un
-            d = x[self.seg_b[s]] - x[self.seg_a[s]]
-            g = u.dot(d) / (un * d.dot(d))
-            corner = self.seg_corner[s]
-            if corner & 1:
-                if g > 0.0:
-                    lo = ti.max(lo, -xi_raw / g)
-                elif g < 0.0:
-                    hi = ti.min(hi, -xi_raw / g)
-                elif xi_raw < 0.0:
-                    hi = lo
-            if corner & 2:
-                if g > 0.0:
-                    hi = ti.min(hi, (1.0 - xi_raw) / g)
-                elif g < 0.0:
-                    lo = ti.max(lo, (1.0 - xi_raw) / g)
-                elif xi_raw > 1.0:
-                    hi = lo
-        hi = ti.max(hi, lo)
-        c = self.q_kappa[q] + self.seg_kappa[s]
-        # Roots of p: A r^2 + B r + C = 0 (numerically stable form), clipped to [lo, hi].
-        A, B, C = 0.5 * c, b, -pen0
-        r1, r2 = hi, hi
-        disc = B * B - 4.0 * A * C
-        if disc >= 0.0:
-            qq = -0.5 * (B + ti.sqrt(disc)) if B >= 0.0 else -0.5 * (B - ti.sqrt(disc))
-            if ti.abs(qq) > 0.0:
-                ra = C / qq
-                rb = ra
-                if ti.abs(A) > 0.0:
-                    rb = qq / A
-                r1 = ti.min(ti.max(ti.min(ra, rb), lo), hi)
-                r2 = ti.min(ti.max(ti.max(ra, rb), lo), hi)
-        i1, i2 = 0.0, 0.0
-        e = ti.Vector([lo, r1, r2, hi])
-        g3 = ti.sqrt(0.6)
-        for k in ti.static(range(3)):
-            a3, b3 = e[k], e[k + 1]
-            mid, half = 0.5 * (a3 + b3), 0.5 * (b3 - a3)
-            if half > 0.0:
-                pm = pen0 - mid * (b + 0.5 * c * mid)
-                if pm > 0.0:
-                    for j in ti.static(range(3)):
-                        r = mid + half * g3 * (j - 1)
-                        pr = pen0 - r * (b + 0.5 * c * r)
-                        wgt = half * (8.0 / 9.0 if j == 1 else 5.0 / 9.0)
-                        i1 += wgt * pr
-                        i2 += wgt * pr * pr
-        # Largest p over [lo, hi]: at an end or at the parabola's vertex inside (an empty
-        # patch: nothing, so no contact).
-        pmax = -1.0
-        if hi > lo:
-            pmax = ti.max(pen0 - lo * (b + 0.5 * c * lo), pen0 - hi * (b + 0.5 * c * hi))
-            if c > 0.0:
-                rv = ti.min(ti.max(-b / c, lo), hi)
-                pmax = ti.max(pmax, pen0 - rv * (b + 0.5 * c * rv))
-        w = 2.0 * h
-        return i1 / w, 0.5 * i2 / w, pmax
 
     @ti.func
     def _apply(
@@ -619,7 +419,7 @@ class PenaltyContact(ForceContributor):
     ):
         ia, ib = self.seg_a[s], self.seg_b[s]
         xi = ti.min(ti.max(xi_raw, 0.0), 1.0)
-        tv, nv = self._frame(s, xi, x)
+        tv, nv = arc_frame(self, s, xi, x)
         m_m = (1.0 - xi) * mass[ia] + xi * mass[ib]
         m_eff = mass[i] * m_m / (mass[i] + m_m)
         k = self.seg_k[s]

@@ -23,15 +23,19 @@ import numpy as np
 
 from taichi_bearing.errors import InputError, SimulationError
 from taichi_bearing.output.checkpoint import latest_checkpoint, load_checkpoint, save_checkpoint
-from taichi_bearing.output.histories import ENERGY_KINDS, HistoryWriter, history_columns
+from taichi_bearing.output.histories import HistoryWriter
 from taichi_bearing.output.progress import RunProgress
 from taichi_bearing.output.recorder import Recorder
 from taichi_bearing.output.vtk import FrameWriter
+from taichi_bearing.run_folder import (
+    BALANCE_COLUMN,
+    CHECKPOINTS_DIR,
+    ENERGY_KINDS,
+    history_columns,
+)
 from taichi_bearing.solver.model import Model
 
 __all__ = ["Recorder", "RunConfig", "RunResult", "run_transient", "steps_per_sample"]
-
-BALANCE_COLUMN = "energy_balance_error"
 
 
 def _stateful(model: Model, recorders: Sequence[Recorder]) -> dict[str, object]:
@@ -199,7 +203,7 @@ def run_transient(
     if not config.duration > 0:
         raise InputError(f"run.duration: must be positive, got {config.duration!r}")
     out = Path(out_dir) if out_dir is not None else None
-    ckpt_dir = out / "checkpoints" if out is not None else None
+    ckpt_dir = out / CHECKPOINTS_DIR if out is not None else None
     s_steps, dt = steps_per_sample(model.dt_stable, config.sample_rate)
     n_samples = max(1, round(config.duration * config.sample_rate))
     frame_every = _every(config.frame_interval, config.sample_rate) if out else None

@@ -1,0 +1,146 @@
+"""Post-processing of a run folder: the checks again, the figures, the report
+(``python -m taichi_bearing post RUN_DIR``), without Taichi and without meshing (but with
+``--remesh`` for a folder from before runs recorded what the checks need)."""
+
+from __future__ import annotations
+
+import time
+import warnings
+from pathlib import Path
+
+from diagnostics.files import write_json
+from taichi_bearing.case import Case
+from taichi_bearing.errors import InputError
+from taichi_bearing.output.summary import write_summary
+from taichi_bearing.run_folder import (
+    CASE_FILE,
+    HISTORIES_FILE,
+    HISTORIES_PARTS_DIR,
+    MESH_INFO_FILE,
+    PRELOAD_FILE,
+    REFERENCE_KEY,
+    ROLLING_RATES_KEY,
+    STATUS_RUNNING,
+    load_run,
+    missing_for_checks,
+)
+
+__all__ = ["figures_and_report", "recheck_run", "write_partial_summary"]
+
+
+def recheck_run(out_dir: str | Path, *, post: bool = True, remesh: bool = False, say=print) -> dict:
+    """Redo the checks (and figures and report) of a run from its folder.
+
+    Pure post-processing: the case, the mesh info, the preload (with the flexible-ring
+    reference) and the histories are read from the folder
+    (:func:`taichi_bearing.run_folder.load_run`); nothing is meshed or solved. What the run
+    measured (steps, times) is kept from ``summary.json``. A run that did not finish
+    (Ctrl-C, a solver stop, ``kill -9`` with the histories only in parts) is checked on
+    what was recorded and marked partial: ``summary["partial"]`` says how far it got.
+
+    Parameters
+    ----------
+    out_dir : str or path
+        The run folder.
+    post : bool
+        Also redraw the figures and rewrite the report.
+    remesh : bool
+        For a folder written before runs recorded ``mesh_info.json`` and the reference:
+        mesh ``case.yaml`` again and solve them now (written to the folder; the
+        ``preload.json`` entries say they were computed by ``post --remesh``).
+    say : callable
+        Where notes go.
+
+    Returns
+    -------
+    dict
+        The summary written.
+
+    Raises
+    ------
+    InputError
+        Not a run folder, no histories, or the folder lacks what the checks need (one
+        line naming it).
+    """
+    from taichi_bearing.case import load_case
+    from taichi_bearing.checks import run_checks
+
+    out = Path(out_dir)
+    try:
+        run = load_run(out)
+        if remesh and missing_for_checks(run) and (out / CASE_FILE).is_file():
+            _remesh_for_checks(load_case(out / CASE_FILE), run)
+            run = load_run(out)
+    except (FileNotFoundError, ValueError) as exc:
+        raise InputError(" ".join(str(exc).split())) from None
+    missing = missing_for_checks(run)
+    if missing:
+        hint = "" if remesh else "; `post --remesh` meshes case.yaml and solves them now"
+        raise InputError(
+            f"{out}: lacks {', '.join(missing)} (a run folder from before runs recorded them){hint}"
+        )
+    case = load_case(out / CASE_FILE)
+    summary = {"case_name": case.name, **run.summary}
+    t0 = time.perf_counter()
+    summary.update(run_checks(case, run.mesh_info, run.histories, run.preload))
+    if run.partial:
+        summary["partial"] = {
+            "status": run.status,
+            "recorded_until_s": run.t_end,
+            "duration_s": case.run.duration,
+            "histories": HISTORIES_FILE if run.merged else f"{HISTORIES_PARTS_DIR}/ only",
+            "note": "the run did not finish"
+            + (" (killed, or still going)" if run.status in (None, STATUS_RUNNING) else "")
+            + "; the checks are of what was recorded",
+        }
+        say(
+            f"partial run (status {run.status}): checked on the "
+            f"{1e3 * run.t_end:.4g} ms recorded of {1e3 * case.run.duration:.4g} ms"
+        )
+    else:
+        summary.pop("partial", None)
+    write = write_partial_summary if run.partial else write_summary
+    write(out, summary)
+    if post:
+        figures_and_report(out, say)
+    summary.setdefault("stage_times_s", {})["post"] = time.perf_counter() - t0
+    write(out, summary)
+    return summary
+
+
+def _remesh_for_checks(case: Case, run) -> None:
+    """Write what a run folder from before ``mesh_info.json`` and the ``preload.json``
+    check entries lacks, from a new mesh of its case (``post --remesh``)."""
+    from taichi_bearing.simulate import check_entries, stage_mesh  # meshing and solving
+
+    mesh, _ = stage_mesh(case)
+    if run.mesh_info is None:
+        write_json(run.run_dir / MESH_INFO_FILE, mesh.info)
+    lacking = [k for k in (REFERENCE_KEY, ROLLING_RATES_KEY) if k not in (run.preload or {})]
+    if run.preload is not None and lacking:
+        entries = check_entries(case, mesh)
+        pre = {**run.preload, **{k: entries[k] for k in lacking}}
+        pre["computed_after_the_run"] = {
+            "keys": lacking,
+            "note": "computed by `post --remesh` from case.yaml (the run folder predates them)",
+        }
+        write_json(run.run_dir / PRELOAD_FILE, pre)
+
+
+def write_partial_summary(out: Path, summary: dict) -> None:
+    """``summary.json`` of a run that did not finish (its missing keys listed, no warning)."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")  # the missing keys are listed in the file
+        write_summary(out, summary)
+
+
+def figures_and_report(out: Path, say) -> None:
+    """The run's figures and report; a failure is reported and the run's results stand."""
+    from taichi_bearing.post.report import write_report
+    from taichi_bearing.post.run_figures import make_run_figures
+
+    for func in (make_run_figures, write_report):
+        try:
+            func(out)
+        except Exception as exc:  # noqa: BLE001 - the run's results stand without them
+            say(f"post: {func.__name__} failed: {type(exc).__name__}: {exc}")
