@@ -61,7 +61,7 @@ def compare(a: Path, b: Path) -> int:
 def main() -> int:
     p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     p.add_argument("--baseline", default="bdc75d3", help="git revision to compare against")
-    p.add_argument("--case", default=str(ROOT / "cases" / "line_spall.yaml"))
+    p.add_argument("--case", default="cases/line_spall.yaml", help="relative: each version's own")
     p.add_argument("--duration-ms", type=float, default=3.0)
     p.add_argument("--threads", type=int, default=1)
     p.add_argument("--set", action="append", default=[], metavar="KEY=VALUE")

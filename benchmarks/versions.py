@@ -47,11 +47,13 @@ def run_case(
     quiet: bool = True,
 ) -> dict:
     """Run ``case`` with the ``taichi_bearing`` of checkout ``source`` into ``out``;
-    return its ``summary.json``.
+    return its ``summary.json``. A relative ``case`` is that checkout's own file (the
+    keys a case file may hold change with the code).
 
     Each version gets its own offline kernel cache ``cache_dir`` (run once before timing
     to warm it)."""
-    cmd = [sys.executable, "-m", "taichi_bearing", str(Path(case).resolve()), "--out", str(out)]
+    case_path = Path(case) if Path(case).is_absolute() else source / case
+    cmd = [sys.executable, "-m", "taichi_bearing", str(case_path), "--out", str(out)]
     for item in overrides:
         cmd += ["--set", item]
     env = dict(os.environ, PYTHONPATH=str(source), TAICHI_BEARING_CACHE_DIR=str(cache_dir))

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import os
+import time
 
 import taichi as ti
 
@@ -13,6 +14,7 @@ __all__ = [
     "current_arch",
     "current_threads",
     "init_taichi",
+    "other_load",
     "parallel_members",
     "serial_loops",
 ]
@@ -46,6 +48,41 @@ def serial_loops() -> tuple[bool, bool]:
     """
     cpu = current_arch() == "cpu"
     return cpu, cpu and current_threads() == 1
+
+
+class _OtherLoad:
+    """CPU cores other processes kept busy lately: from ``/proc/stat`` (all CPUs, steal
+    time counted as busy) less this process's own CPU time, over the time since the last
+    reading (read at most every ``interval`` s). 0 where ``/proc/stat`` is absent."""
+
+    interval = 0.5
+
+    def __init__(self) -> None:
+        self.last: tuple[float, float, float] | None = None  # (wall, busy, ours) in s
+        self.value = 0.0
+
+    def __call__(self) -> float:
+        now = time.monotonic()
+        if self.last is not None and now - self.last[0] < self.interval:
+            return self.value
+        try:
+            with open("/proc/stat") as f:
+                fields = [float(v) for v in f.readline().split()[1:]]
+        except (OSError, ValueError):
+            return 0.0
+        tick = os.sysconf("SC_CLK_TCK")
+        idle = fields[3] + (fields[4] if len(fields) > 4 else 0.0)  # idle + iowait
+        busy = (sum(fields[:8]) - idle) / tick  # user ... steal, not guest (in user)
+        t = os.times()
+        ours = t.user + t.system
+        if self.last is not None:
+            wall = now - self.last[0]
+            self.value = max(0.0, (busy - self.last[1]) - (ours - self.last[2])) / wall
+        self.last = (now, busy, ours)
+        return self.value
+
+
+other_load = _OtherLoad()
 
 
 # Members of a parallel launch per CPU thread: enough items for Taichi's CPU tasks (at

@@ -251,6 +251,10 @@ class RigidCage(ForceContributor):
     def after_steps(self, model: Model, n: int) -> None:
         self.n_samples += n
 
+    def force_nodes(self) -> np.ndarray:
+        """The rollers' surface nodes: the only ones the pockets push."""
+        return self.node.to_numpy()[: self.n_nodes]
+
     def start(self, model: Model) -> None:
         """Time 0 of a transient: angle 0 and the starting speed."""
         self.set_state(angle=0.0, speed=self.start_speed)

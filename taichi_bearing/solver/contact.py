@@ -250,6 +250,7 @@ class PenaltyContact(ForceContributor):
         self.seg_kappa.from_numpy(kappa)
         self.seg_corner.from_numpy((corner_a.astype(np.int32) + 2 * corner_b).astype(np.int32))
         self.track.from_numpy(track)
+        self.track_np = track
         self.n_samples = 0
         self.rebuilds = 0
         self._built = False
@@ -481,6 +482,10 @@ class PenaltyContact(ForceContributor):
         """After ``n`` steps: counts them (grid schedule, sample means)."""
         self._countdown -= n
         self.n_samples += n
+
+    def force_nodes(self) -> np.ndarray:
+        """Query and segment nodes: the only ones this contact pushes."""
+        return self.track_np
 
     def start(self, model: Model) -> None:
         """Time 0 of a transient: the dissipation counts from here."""

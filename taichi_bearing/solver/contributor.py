@@ -129,6 +129,11 @@ class ForceContributor:
     def after_steps(self, model, n: int) -> None:
         """After ``n`` steps ran (e.g. count them for sample means)."""
 
+    def force_nodes(self) -> np.ndarray | None:
+        """The nodes this contributor may add forces to (None: any node). The node update
+        reads the contributors' forces at these nodes only."""
+        return None
+
     def start(self, model) -> None:
         """The model's clock restarts for a transient at ``t = 0``
         (:meth:`Model.set_initial_velocities`): reset what counts from there."""

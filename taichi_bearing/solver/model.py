@@ -35,7 +35,7 @@ from taichi_bearing.solver.loads import (
     RigidVelocity,
 )
 from taichi_bearing.solver.materials import Material, materials_per_element
-from taichi_bearing.solver.step import FIXED, HELD, PLATE, ROTATED
+from taichi_bearing.solver.step import EXTRA, FIXED, HELD, LOADED, PLATE, ROTATED
 from taichi_bearing.solver.team import TeamState
 from taichi_bearing.solver.time_step import CriticalStep
 
@@ -213,8 +213,6 @@ class Model:
         self.bad_element[None] = ne
 
         self._setup_constraints(constraints)
-
-        self._setup_constraints(constraints)
         self._setup_loads(loads)
         self._setup_sensors(mesh.sensor_nodes if sensors is None else sensors)
         self.initial_velocities = list(initial_velocities)
@@ -224,6 +222,7 @@ class Model:
         self.kernel_contributors: tuple[ForceContributor, ...] = ()
         self.python_contributors: tuple[ForceContributor, ...] = ()
         self._frozen = False
+        self.steps_by_mode: dict[str, int] = {}  # steps taken in each stepping mode
         self.step_count = 0
         self.set_initial_velocities()
 
@@ -270,7 +269,7 @@ class Model:
         if plates:
             self.plate_node.from_numpy(self.plate.nodes.astype(np.int32))
             self.plate_dir[None] = self.plate.direction
-        self.bc.from_numpy(bc)
+        self.bc_np = bc  # uploaded once the loads have added theirs
         self.held_dir.from_numpy(held)
         self.rot_group.from_numpy(rgroup)
         nr = len(rots)
@@ -300,6 +299,8 @@ class Model:
             self.load_node.from_numpy(np.concatenate(nodes).astype(np.int32))
             self.load_force.from_numpy(np.concatenate(forces))
             self.load_ramp.from_numpy(np.concatenate(ramps))
+            self.bc_np[np.concatenate(nodes)] |= LOADED
+        self.bc.from_numpy(self.bc_np)
 
     def _setup_sensors(self, sensors: Mapping[str, int]) -> None:
         self.sensor_names = list(sensors)
@@ -418,10 +419,23 @@ class Model:
         else:
             self.python_contributors += (contributor,)
         self._contributors.append(contributor)
+        if self._frozen:
+            self._flag_force_nodes()
 
     def freeze_contributors(self) -> None:
         """No more kernel contributors (called by the first step)."""
-        self._frozen = True
+        if not self._frozen:
+            self._frozen = True
+            self._flag_force_nodes()
+
+    def _flag_force_nodes(self) -> None:
+        """Flag the nodes some contributor may push (the node update reads the
+        contributors' force there only)."""
+        self.bc_np &= ~EXTRA
+        for c in self._contributors:
+            nodes = c.force_nodes()
+            self.bc_np[slice(None) if nodes is None else np.asarray(nodes)] |= EXTRA
+        self.bc.from_numpy(self.bc_np)
 
     # ------------------------------------------------------------------ stepping
 

@@ -45,8 +45,10 @@ N_PHASES = 5
 # Phases split among the members (the others run on member 0 alone).
 SHARED = (True, True, False, True, False)
 
-# Node constraint flags (Model.bc), bits.
-FIXED, HELD, ROTATED, PLATE = 1, 2, 4, 8
+# Node flags (Model.bc), bits: constraints, then whether a dead load or a force
+# contributor can act on the node (the others skip reading those fields: less memory
+# traffic, the same sums).
+FIXED, HELD, ROTATED, PLATE, LOADED, EXTRA = 1, 2, 4, 8, 16, 32
 
 
 @ti.func
@@ -161,18 +163,22 @@ def rotation_angle(m: ti.template(), g, t):
 def node_update(m: ti.template(), i, t_rot, dt, dt_v, first, c_mass, rec):
     """Node ``i``: gather the forces, move, apply its constraint, count the work of the
     non-elastic forces (loads, reactions, contributors)."""
+    flag = m.bc[i]
     f_int = ti.Vector.zero(ti.f64, 2)
     for s in range(m.adj_ptr[i], m.adj_ptr[i + 1]):
         f_int += m.fe[m.adj[s]]
-    f = f_int + force_at(m.f_extra, i) + m.f_load[i]
-    m.f_extra[i] = ti.Vector.zero(ti.i64, 2)
+    f = f_int
+    if flag & EXTRA:
+        f += force_at(m.f_extra, i)
+        m.f_extra[i] = ti.Vector.zero(ti.i64, 2)
+    if flag & LOADED:
+        f += m.f_load[i]
     mass = m.mass[i]
     vo = m.v[i]
     xo = m.x[i]
     vn = vo + dt_v * f / mass
     if c_mass > 0.0:  # dynamic relaxation: viscous mass damping
         vn = ((1.0 - 0.5 * c_mass * dt_v) * vo + dt_v * f / mass) / (1.0 + 0.5 * c_mass * dt_v)
-    flag = m.bc[i]
     if flag & HELD:
         d = m.held_dir[i]
         vn -= vn.dot(d) * d

@@ -26,6 +26,7 @@ import os
 
 import taichi as ti
 
+from taichi_bearing.solver import backend
 from taichi_bearing.solver.backend import (
     current_arch,
     current_threads,
@@ -40,6 +41,10 @@ __all__ = ["MODES", "SERIAL_MAX_ELEMENTS", "advance", "choose_mode", "team_size"
 MODES = ("serial", "team", "parallel")
 # Below this many elements a chunk of steps runs serially (launch-bound regime).
 SERIAL_MAX_ELEMENTS = 3000
+# Other processes keeping more than this many cores busy make the team stand down: a
+# member spinning at a barrier while another waits for a core wastes its time slices
+# (one other CPU-bound process made team stepping 18x slower on 2 cores).
+OTHER_LOAD_LIMIT = 0.3
 
 
 @ti.kernel
@@ -107,8 +112,7 @@ def _k_phases(m: ti.template(), p0: ti.template(), p1: ti.template(), step0: ti.
 
 def team_size(model) -> int:
     """Threads for team stepping (0: not possible): the CPU with several threads, no more
-    than the cores this process may run on (a member spinning at a barrier while another
-    waits for a core would waste its time slice), and no Python contributor."""
+    than the cores this process may run on, and no Python contributor."""
     threads = current_threads()
     cores = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else threads
     if current_arch() != "cpu" or not 2 <= threads <= min(cores, TEAM_MAX_THREADS):
@@ -118,10 +122,21 @@ def team_size(model) -> int:
     return threads
 
 
+def oversubscribed() -> bool:
+    """Whether other processes keep the cores busy (:data:`OTHER_LOAD_LIMIT`): then a
+    team's spinning members would wait on each other's time slices."""
+    return backend.other_load() > OTHER_LOAD_LIMIT
+
+
 def choose_mode(model, mode: str | None = None) -> str:
     """The stepping mode for ``model``: ``mode`` if given (checked), else ``serial`` on
     one CPU thread or a small mesh, else ``team`` where possible, else ``parallel``.
-    A Python contributor always means ``parallel`` (its forces come between launches)."""
+    A Python contributor always means ``parallel`` (its forces come between launches).
+    Where ``team`` would be chosen but other processes keep the cores busy
+    (:func:`oversubscribed`), ``serial``: one thread that does not spin keeps its share of
+    the machine (about half of the quiet team's speed on 2 cores beside one other
+    CPU-bound process, where a team slows down many times). Checked again at every call,
+    so the team comes back when the machine is free. The results do not depend on it."""
     if mode is not None and mode not in MODES:
         raise ValueError(f"mode must be one of {MODES}, got {mode!r}")
     if model.python_contributors:
@@ -134,7 +149,9 @@ def choose_mode(model, mode: str | None = None) -> str:
         return mode
     if model.n_elements <= SERIAL_MAX_ELEMENTS or serial_loops()[1]:
         return "serial"
-    return "team" if team_size(model) else "parallel"
+    if team_size(model):
+        return "serial" if oversubscribed() else "team"
+    return "parallel"
 
 
 def advance(model, n: int, record_last: bool = False, mode: str | None = None,
@@ -143,6 +160,7 @@ def advance(model, n: int, record_last: bool = False, mode: str | None = None,
     if n <= 0:
         return
     mode = choose_mode(model, mode)
+    model.steps_by_mode[mode] = model.steps_by_mode.get(mode, 0) + n
     model.freeze_contributors()
     relax = relax_damping is not None
     c_mass = float(relax_damping) if relax else 0.0
