@@ -18,6 +18,7 @@ COMMANDS = {
     "run": "preload, spin and record the bearing (the main job)",
     "mesh": "build the finite element mesh, write mesh.vtu, pictures and statistics",
     "analytic": "quasi-static load distribution with the spall, tables and figures",
+    "modes": "natural frequencies and mode shapes of the finite element model",
     "sweep": "run a load x speed matrix of cases",
     "post": "redo the checks, figures and report of a run folder (finished or not)",
     "compare": "a run's sensor acceleration against measured records, side by side",
