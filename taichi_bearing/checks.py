@@ -20,7 +20,12 @@ import pandas as pd
 
 from taichi_bearing.bearing import fault_frequencies
 from taichi_bearing.case import Case
-from taichi_bearing.passages import SpallEvent, detect_spall_events, passage_signature
+from taichi_bearing.passages import (
+    SpallEvent,
+    detect_spall_events,
+    passage_signature,
+    passage_statistics,
+)
 from taichi_bearing.quasistatic import analytical_roller_forces
 from taichi_bearing.run_folder import (
     BALANCE_COLUMN,
@@ -493,6 +498,8 @@ def run_checks(case: Case, info: Mapping, hist: pd.DataFrame, preload: Mapping) 
         "reference_roller_forces_N": reference.tolist(),
         **speed_values,
         "events": [dict(e) for e in events],
+        # median and interquartile range over the passages (one passage is one sample)
+        "passage_statistics": passage_statistics(signatures),
         "entry_times_s": [e["entry_time_s"] for e in events],
         "restress_times_s": [e["exit_time_s"] for e in events],
         "noise_frequencies_predicted_hz": predicted,

@@ -5,15 +5,22 @@ Taichi). The run's checks (:mod:`taichi_bearing.checks`) judge what these find."
 from __future__ import annotations
 
 import math
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 
 import numpy as np
 import pandas as pd
 
 from taichi_bearing.run_folder import TIME_COLUMN, roller_force_column, roller_motion_column
 
-__all__ = ["EXIT_BURST_S", "RESTRESS_MEAN_S", "SpallEvent", "detect_spall_events",
-           "passage_signature"]  # fmt: skip
+__all__ = [
+    "EXIT_BURST_S",
+    "PASSAGE_QUANTITIES",
+    "RESTRESS_MEAN_S",
+    "SpallEvent",
+    "detect_spall_events",
+    "passage_signature",
+    "passage_statistics",
+]
 
 RESTRESS_MEAN_S = 1e-4  # averaging time of the re-stressing force, s
 EXIT_BURST_S = 1e-3  # shortest exit window: the re-stressing burst rings for ~1 ms
@@ -127,9 +134,24 @@ def passage_signature(
     of the outer-raceway force at exit (peaks standing at least ``F0 / 4`` above the
     troughs either side: on a fine mesh the later impulses ride on the returning load,
     0.25-0.45 F0 above their troughs on the default case), and the largest
-    |a - median| of ``signal`` in each window.
+    |a - median| of ``signal`` in each window; and, for the study of how these converge
+    (:data:`PASSAGE_QUANTITIES`):
+
+    - ``entry_destress_time_s``: the outer-raceway force falling from 90 % to 10 % of
+      ``F0`` around the entry (the last sample at or above 0.9 F0 before the entry, the
+      first at or below 0.1 F0 after it);
+    - ``exit_impulse_width_s``: the median width of the exit impulses at half their
+      prominence (NaN without impulses);
+    - ``exit_reload_time_s``: from the first touch of the exit edge until the force
+      averaged over :data:`RESTRESS_MEAN_S` regains 0.9 ``F0`` (NaN if it does not within
+      the record);
+    - ``exit_entry_accel_ratio``: the exit acceleration peak over the larger of the
+      entry and traverse peaks (the exit-burst check's ratio);
+    - ``exit_peak_frequency_hz``: the frequency of the largest component of ``signal``
+      in the exit window (Hann window, zero-padded to 16x): the band the re-stressing
+      excites.
     """
-    from scipy.signal import find_peaks
+    from scipy.signal import find_peaks, peak_widths
 
     t = hist[TIME_COLUMN].to_numpy()
     j = int(event["roller"])
@@ -151,7 +173,7 @@ def passage_signature(
     def peak(a, sel):
         return float(a[sel].max()) if sel.any() else 0.0
 
-    return {
+    signature = {
         "entry_force_peak_ratio": peak(both, entry) / f0,
         "exit_force_peak_ratio": peak(both, leave) / f0,
         "exit_impulses": int(len(peaks)),
@@ -159,3 +181,66 @@ def passage_signature(
         "floor_accel_peak": peak(acc, floor),
         "exit_accel_peak": peak(acc, leave),
     }
+    dt = float(np.median(np.diff(t)))
+    i_entry = int(np.searchsorted(t, te))
+    high = np.flatnonzero(fn[:i_entry] >= 0.9 * f0)
+    low = i_entry + np.flatnonzero(fn[i_entry:] <= 0.1 * f0)
+    destress = float(t[low[0]] - t[high[-1]]) if high.size and low.size else math.nan
+    widths = (
+        peak_widths(np.concatenate([[0.0], fn[leave]]), peaks, rel_height=0.5)[0] * dt
+        if len(peaks)
+        else []
+    )
+    n_mean = max(1, round(RESTRESS_MEAN_S / max(dt, 1e-12)))
+    mean = np.convolve(fn, np.ones(n_mean) / n_mean)[: len(fn)]
+    full = np.flatnonzero((t >= tx) & (mean >= 0.9 * f0))
+    x = hist[signal].to_numpy()[leave]
+    freq = math.nan
+    if x.size >= 4:
+        spectrum = np.abs(np.fft.rfft((x - x.mean()) * np.hanning(x.size), 16 * x.size))
+        freq = float(np.argmax(spectrum[1:]) + 1) / (16 * x.size * dt)
+    signature.update(
+        {
+            "entry_destress_time_s": destress,
+            "exit_impulse_width_s": float(np.median(widths)) if len(widths) else math.nan,
+            "exit_reload_time_s": float(t[full[0]] - tx) if full.size else math.nan,
+            "exit_entry_accel_ratio": signature["exit_accel_peak"]
+            / max(signature["entry_accel_peak"], signature["floor_accel_peak"], 1e-30),
+            "exit_peak_frequency_hz": freq,
+        }
+    )
+    return signature
+
+
+# What a passage's signature measures that a study compares across passages and levels.
+PASSAGE_QUANTITIES = (
+    "entry_destress_time_s",
+    "exit_force_peak_ratio",
+    "exit_impulses",
+    "exit_impulse_width_s",
+    "exit_reload_time_s",
+    "exit_entry_accel_ratio",
+    "exit_peak_frequency_hz",
+)
+
+
+def passage_statistics(
+    signatures: Sequence[Mapping[str, float]], quantities: Sequence[str] = PASSAGE_QUANTITIES
+) -> dict[str, dict[str, float | int]]:
+    """The distribution over passages of each quantity: ``median``, ``q25``, ``q75``
+    (the interquartile range) and ``n``, the passages where it is defined (not NaN).
+
+    One passage is one sample of a chaotic bounce (see
+    :func:`taichi_bearing.checks.exit_burst_check`): a finding is a distribution over
+    passages, never one passage's value.
+    """
+    out: dict[str, dict[str, float | int]] = {}
+    for q in quantities:
+        v = np.array([float(s[q]) for s in signatures if q in s], dtype=float)
+        v = v[np.isfinite(v)]
+        if v.size:
+            q25, med, q75 = (float(a) for a in np.percentile(v, [25, 50, 75]))
+        else:
+            q25 = med = q75 = math.nan
+        out[q] = {"median": med, "q25": q25, "q75": q75, "n": int(v.size)}
+    return out

@@ -164,3 +164,39 @@ def test_checks_are_post_processing_without_mesh_solver_or_taichi():
     )
     assert res.returncode == 0, res.stderr
     assert res.stdout.strip() == ""
+
+
+def test_passage_timings_and_frequency_of_a_known_history():
+    # _burst_history: the force falls linearly from F0 at 1 ms to 0 at 1.5 ms; from 3 ms,
+    # n half-sine impulses 40 us wide (0.2 F0 base, up to 0.5 F0: the 0.1 ms mean stays
+    # low during the burst), then F0 again after the burst.
+    hist, event = _burst_history(3, peak=0.5)
+    t = hist["time_s"].to_numpy()
+    fn = hist["roller0_outer_fn"].to_numpy()
+    # the constant F0 after the burst is where the 0.1 ms mean regains 0.9 F0
+    tail = 3e-3 + 7e-5 * 3
+    hist.loc[t >= tail, "roller0_outer_fn"] = fn[0]
+    hist.loc[t >= tail, "roller0_inner_fn"] = fn[0]
+    # a 20 kHz tone in the exit window
+    burst = (t >= 3e-3) & (t < 4e-3)
+    hist.loc[burst, "s_ay"] = np.sin(2 * np.pi * 20e3 * t[burst])
+    sig = passage_signature(hist, event, "s_ay", window_s=3e-4)
+    # 90 % -> 10 % of a linear fall over 0.5 ms: 0.4 ms (to a sample either side)
+    assert sig["entry_destress_time_s"] == pytest.approx(4e-4, abs=2e-5)
+    # a half-sine of base width 40 us is 20 us wide at half height (to a sample)
+    assert sig["exit_impulse_width_s"] == pytest.approx(2e-5, abs=1e-5)
+    # the 0.1 ms mean reaches 0.9 F0 about 0.09 ms into the constant tail
+    assert sig["exit_reload_time_s"] == pytest.approx(tail - 3e-3 + 9e-5, abs=3e-5)
+    assert sig["exit_peak_frequency_hz"] == pytest.approx(20e3, rel=0.05)
+
+
+def test_passage_statistics_are_median_and_quartiles_over_the_passages():
+    from taichi_bearing.passages import passage_statistics
+
+    sigs = [{"exit_impulses": v, "exit_impulse_width_s": w}
+            for v, w in ((1, np.nan), (3, 2e-5), (5, 4e-5), (7, 6e-5), (9, 8e-5))]  # fmt: skip
+    stats = passage_statistics(sigs, ("exit_impulses", "exit_impulse_width_s"))
+    assert stats["exit_impulses"] == {"median": 5.0, "q25": 3.0, "q75": 7.0, "n": 5}
+    # NaN (no impulse to measure) is left out
+    assert stats["exit_impulse_width_s"]["n"] == 4
+    assert stats["exit_impulse_width_s"]["median"] == pytest.approx(5e-5)
