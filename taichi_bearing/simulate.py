@@ -24,6 +24,7 @@ from diagnostics.files import to_jsonable, write_json
 from taichi_bearing.case import Case, case_to_dict
 from taichi_bearing.errors import InputError, SimulationError
 from taichi_bearing.mesh import build_bearing_mesh, mesh_statistics, spec_from_case
+from taichi_bearing.mesh.quality import resolution_warning
 from taichi_bearing.mesh.types import Mesh
 from taichi_bearing.output.checkpoint import fingerprint, latest_checkpoint
 from taichi_bearing.output.histories import read_histories
@@ -267,6 +268,9 @@ def run_case(
     write_json(out / MESH_INFO_FILE, mesh.info)
     times["mesh"] = time.perf_counter() - t0
     say(f"mesh: {mesh.n_elements} elements, {mesh.n_nodes} nodes ({times['mesh']:.1f} s)")
+    note = resolution_warning(stats, 0.5 * case.run.sample_rate, "run.sample_rate_Hz / 2")
+    if note:
+        log(f"warning: {note}")
 
     t0 = time.perf_counter()
     bm = build_model(case, mesh, arch, threads)

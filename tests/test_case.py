@@ -355,6 +355,7 @@ def test_cli_missing_file_exit_2(tmp_path):
 DIMENSIONLESS = {
     "material.poissons_ratio",
     "mesh.growth",
+    "mesh.elements_per_wavelength",
     "contact.penalty_scale",
     "contact.friction_static",
     "contact.friction_dynamic",
@@ -375,7 +376,7 @@ def test_every_key_has_a_comment_and_its_unit():
     reference = render_reference()
     keys = [(f"{name}.{k.name}", k) for name, sec in SECTIONS.items() for k in sec.keys]
     keys += [(f"sensors.<name>.{k.name}", k) for k in SENSOR_KEYS]
-    assert len(keys) == 52
+    assert len(keys) == 53
     for path, k in keys:
         assert len(k.doc.split()) >= 2, path
         assert f"| `{k.name}` |" in reference, path

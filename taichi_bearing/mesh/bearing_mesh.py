@@ -205,6 +205,7 @@ def _info(spec, mesh, centres, outer, inner, notch_outer, notch_inner) -> dict:
             "surface_size": spec.surface_size,
             "max_size": spec.max_size,
             "growth": spec.growth,
+            "elements_per_wavelength": spec.elements_per_wavelength,
         },
         "spall": spall,
         "cage": {

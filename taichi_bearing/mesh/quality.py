@@ -8,16 +8,32 @@ Definitions (the solver relies on the same ones):
 - characteristic length ``L = A / d_max`` (area over the longer diagonal, as LS-DYNA does for
   2-D solids); critical step ``dt = L / c`` with the plane-strain dilatational wave speed
   ``c = sqrt((lambda + 2 mu) / rho)``.
+
+Resolution: a wave is resolved where an element is at most ``1 / N`` of its wavelength,
+so a part resolves frequencies up to ``f = c_R / (N h)``, ``h`` its longest element edge.
+``c_R`` is the Rayleigh wave speed, the slowest wave in the bodies (0.93 of the shear wave
+speed for steel, half the dilatational one), so its wavelength is the shortest at a given
+frequency: it is the wave that carries a contact impulse along a raceway, and bending of
+the rings is slower still only where the ring is thin against the wavelength. ``N`` is
+10 by default (``mesh.elements_per_wavelength``): the usual rule for linear elements
+(Kuhlemeyer and Lysmer's ``h <= lambda / 10`` for wave propagation), at which a
+lumped-mass linear element's wave speed is low by about 1.6 % (``(k h)^2 / 24``); 20
+halves the element size for a quarter of that error.
 """
 
 from __future__ import annotations
 
+import math
+from collections.abc import Mapping
 from dataclasses import dataclass, field
 
 import numpy as np
 
 from taichi_bearing.mesh.grid import signed_areas
 from taichi_bearing.mesh.types import Mesh
+
+ELEMENTS_PER_WAVELENGTH = 10.0
+"""Default elements per wavelength of the resolution criterion (see the module notes)."""
 
 GAUSS_2X2 = np.array([[-1, -1], [1, -1], [1, 1], [-1, 1]], dtype=float) / np.sqrt(3.0)
 CORNERS = np.array([[-1, -1], [1, -1], [1, 1], [-1, 1]], dtype=float)
@@ -52,6 +68,22 @@ def wave_speed(youngs_modulus: float, poissons_ratio: float, density: float) -> 
     if e <= 0 or density <= 0 or not -1 < nu < 0.5:
         raise ValueError(f"need E > 0, rho > 0 and -1 < nu < 0.5, got {e}, {density}, {nu}")
     return float(np.sqrt(e * (1 - nu) / ((1 + nu) * (1 - 2 * nu)) / density))
+
+
+def shear_wave_speed(youngs_modulus: float, poissons_ratio: float, density: float) -> float:
+    """Shear wave speed ``sqrt(mu / rho)``, m/s."""
+    return float(np.sqrt(youngs_modulus / (2.0 * (1.0 + poissons_ratio)) / density))
+
+
+def rayleigh_wave_speed(youngs_modulus: float, poissons_ratio: float, density: float) -> float:
+    """Rayleigh (surface) wave speed, m/s: the root ``xi = (c_R / c_s)^2`` in (0, 1) of
+    ``xi^3 - 8 xi^2 + (24 - 16 k) xi - 16 (1 - k) = 0``, ``k = (c_s / c_p)^2``
+    (plane strain, so ``c_p`` is the dilatational speed)."""
+    cs = shear_wave_speed(youngs_modulus, poissons_ratio, density)
+    k = (cs / wave_speed(youngs_modulus, poissons_ratio, density)) ** 2
+    roots = np.roots([1.0, -8.0, 24.0 - 16.0 * k, -16.0 * (1.0 - k)])
+    xi = [r.real for r in roots if abs(r.imag) < 1e-12 and 0.0 < r.real < 1.0]
+    return float(cs * math.sqrt(min(xi)))
 
 
 def element_geometry(nodes: np.ndarray, elements: np.ndarray) -> dict[str, np.ndarray]:
@@ -89,6 +121,10 @@ class MeshStatistics:
     critical_dt: float
     worst_element: int
     polygon_edges: dict[str, int] = field(default_factory=dict)
+    part_max_size: dict[str, float] = field(default_factory=dict)
+    resolved_frequency: dict[str, float] = field(default_factory=dict)
+    elements_per_wavelength: float = ELEMENTS_PER_WAVELENGTH
+    resolution_wave_speed: float = 0.0
 
     def summary(self) -> str:
         """A one-screen text summary."""
@@ -110,6 +146,17 @@ class MeshStatistics:
             f"(element {self.worst_element}); wave speed {self.wave_speed:.5g} m/s",
             f"critical time step {1e9 * self.critical_dt:.4g} ns (solver uses 0.9 x)",
         ]
+        if self.resolved_frequency:
+            groups = _group_rollers(self.resolved_frequency)
+            parts = ", ".join(
+                f"{label} {_span_khz([self.resolved_frequency[n] for n in names])}"
+                for label, names in groups
+            )
+            lines.append(
+                f"resolves up to (kHz, {self.elements_per_wavelength:g} elements per "
+                f"Rayleigh wavelength, c_R {self.resolution_wave_speed:.5g} m/s, longest "
+                f"edge of each part): {parts}"
+            )
         if self.polygon_edges:
             groups = _group_rollers(self.polygon_edges)
             edges = ", ".join(
@@ -133,6 +180,11 @@ def _group_rollers(per_part: dict[str, int]) -> list[tuple[str, list[str]]]:
     return out
 
 
+def _span_khz(values: list[float]) -> str:
+    lo, hi = 1e-3 * min(values), 1e-3 * max(values)
+    return f"{lo:.3g}" if f"{lo:.3g}" == f"{hi:.3g}" else f"{lo:.3g}-{hi:.3g}"
+
+
 def _span(values: list[int]) -> str:
     lo, hi = min(values), max(values)
     return f"{lo}" if lo == hi else f"{lo}-{hi}"
@@ -144,8 +196,10 @@ def mesh_statistics(
     poissons_ratio: float = 0.3,
     density: float = 7850.0,
     wave_speed_m_s: float | None = None,
+    elements_per_wavelength: float | None = None,
 ) -> MeshStatistics:
-    """Counts per part, element sizes, worst quality and the critical time step.
+    """Counts per part, element sizes, worst quality, the critical time step and the
+    highest frequency each part resolves.
 
     Parameters
     ----------
@@ -154,15 +208,27 @@ def mesh_statistics(
         Material, SI; used when ``wave_speed_m_s`` is not given.
     wave_speed_m_s : float, optional
         Dilatational wave speed to use directly.
+    elements_per_wavelength : float, optional
+        ``N`` of the resolution criterion (module notes); default the mesh's own
+        (``mesh.info["sizes"]["elements_per_wavelength"]``, from the case) or
+        :data:`ELEMENTS_PER_WAVELENGTH`.
     """
     c = wave_speed_m_s or wave_speed(youngs_modulus, poissons_ratio, density)
+    if elements_per_wavelength is None:
+        sizes = mesh.info.get("sizes", {})
+        elements_per_wavelength = sizes.get("elements_per_wavelength", ELEMENTS_PER_WAVELENGTH)
+    c_r = rayleigh_wave_speed(youngs_modulus, poissons_ratio, density)
     g = element_geometry(mesh.nodes, mesh.elements)
     worst = int(np.argmin(g["char_length"]))
-    part_elements, part_nodes = {}, {}
+    part_elements, part_nodes, part_size, resolved = {}, {}, {}, {}
     for p, name in enumerate(mesh.part_names):
-        sel = mesh.elements[mesh.element_part == p]
+        in_part = mesh.element_part == p
+        sel = mesh.elements[in_part]
         part_elements[name] = int(len(sel))
         part_nodes[name] = int(len(np.unique(sel)))
+        if in_part.any():
+            part_size[name] = float(g["max_edge"][in_part].max())
+            resolved[name] = c_r / (elements_per_wavelength * part_size[name])
     polygon = {k: int(v) for k, v in mesh.info.get("polygon_edges", {}).items()}
     return MeshStatistics(
         n_nodes=mesh.n_nodes,
@@ -178,4 +244,30 @@ def mesh_statistics(
         critical_dt=float(g["char_length"][worst] / c),
         worst_element=worst,
         polygon_edges=polygon,
+        part_max_size=part_size,
+        resolved_frequency=resolved,
+        elements_per_wavelength=float(elements_per_wavelength),
+        resolution_wave_speed=c_r,
+    )
+
+
+def resolution_warning(statistics: Mapping, band_hz: float, what: str) -> str | None:
+    """One line when ``band_hz`` lies above the highest frequency some part of the mesh
+    resolves (``statistics``: :class:`MeshStatistics` as a dict, e.g. a run's
+    ``mesh_statistics.json``); None when every part resolves it or the statistics say
+    nothing of resolution. ``what`` names the band, e.g. ``"run.sample_rate_Hz / 2"``."""
+    resolved = statistics.get("resolved_frequency") or {}
+    below = {k: v for k, v in resolved.items() if v is not None and v < band_hz}
+    if not below:
+        return None
+    part = min(below, key=below.get)
+    size = (statistics.get("part_max_size") or {}).get(part)
+    edge = f", its longest element {1e3 * size:.3g} mm" if size else ""
+    others = f" (and {len(below) - 1} more parts)" if len(below) > 1 else ""
+    return (
+        f"mesh: the analysed band reaches {1e-3 * band_hz:.4g} kHz ({what}) but "
+        f"{part}{others} resolves only {1e-3 * below[part]:.3g} kHz with "
+        f"{statistics.get('elements_per_wavelength', ELEMENTS_PER_WAVELENGTH):g} elements "
+        f"per Rayleigh wavelength{edge}: waves above it are too short for its elements "
+        "(lower mesh.max_size_mm, or accept fewer mesh.elements_per_wavelength)"
     )

@@ -45,6 +45,9 @@ class BearingMeshSpec:
     surface_size, max_size, growth : float
         Element size along contact surfaces, largest element size, m, and the thickness
         ratio between neighbouring element layers.
+    elements_per_wavelength : float
+        The resolution criterion the mesh is judged by (recorded in ``mesh.info``; see
+        :mod:`taichi_bearing.mesh.quality`); it does not change the mesh.
     first_roller_angle : float
         Position of roller 0, rad from 12 o'clock; rollers are numbered counter-clockwise.
     cage_pocket_clearance : float
@@ -69,6 +72,7 @@ class BearingMeshSpec:
     surface_size: float = 0.0005
     max_size: float = 0.003
     growth: float = 1.3
+    elements_per_wavelength: float = 10.0
     first_roller_angle: float = math.radians(-5.0)
     cage_pocket_clearance: float = 0.0005
     sensors: dict[str, tuple[float, float]] = field(default_factory=dict)
@@ -198,6 +202,7 @@ def spec_from_case(case) -> BearingMeshSpec:
         surface_size=m.surface_size,
         max_size=m.max_size,
         growth=m.growth,
+        elements_per_wavelength=m.elements_per_wavelength,
         first_roller_angle=case.run.first_roller_angle,
         cage_pocket_clearance=case.cage.pocket_clearance,
         sensors={name: (s.x, s.y) for name, s in case.sensors.items()},

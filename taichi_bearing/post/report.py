@@ -42,6 +42,7 @@ SECTIONS = (
     "Spall passages",
     "Numerical noise and notch filters",
     "Spectral analysis",
+    "Modes near the re-stressing band",
     "Defect size",
     "Deformed mesh at the spall",
 )
@@ -132,10 +133,18 @@ _MESH_UNITS = {
     "critical_dt": ("critical time step (ns)", 1e9),
     "worst_aspect": ("worst aspect ratio", 1.0),
     "worst_jacobian_ratio": ("worst Jacobian ratio", 1.0),
+    "resolution_wave_speed": ("Rayleigh wave speed (m/s)", 1.0),
 }
 
 
-def _mesh(summary: dict, run_dir: Path) -> list:
+def _per_part(values: dict, scale: float, digits: int = 3) -> str:
+    """Per-part numbers, the rollers gathered into one span."""
+    return _group_parts({k: fmt(scale * v, digits) for k, v in values.items() if v is not None})
+
+
+def _mesh(summary: dict, run_dir: Path, case: dict, figs: dict) -> list:
+    from taichi_bearing.mesh.quality import resolution_warning
+
     stats = summary.get("mesh_statistics") or {}
     path = run_dir / MESH_STATISTICS_FILE
     if not stats and path.is_file():
@@ -144,18 +153,36 @@ def _mesh(summary: dict, run_dir: Path) -> list:
         ["elements", fmt(summary.get("n_elements"))],
         ["nodes", fmt(summary.get("n_nodes"))],
     ]
+    n_per = fmt(stats.get("elements_per_wavelength"))
+    per_part = {
+        "part_max_size": ("longest element edge per part (mm)", 1e3),
+        "resolved_frequency": (f"resolves up to, {n_per} elements per wavelength (kHz)", 1e-3),
+    }
     for key, value in stats.items():
-        if key in ("n_nodes", "n_elements"):
+        if key in ("n_nodes", "n_elements", "elements_per_wavelength"):
             continue
-        label, scale = _MESH_UNITS.get(key, (key, None))
-        if isinstance(value, dict):
+        label, scale = {**_MESH_UNITS, **per_part}.get(key, (key, None))
+        if key in per_part:
+            text = _group_parts({k: fmt(scale * v, 3) for k, v in (value or {}).items()})
+        elif isinstance(value, dict):
             text = _group_parts(value)
         elif scale is not None and isinstance(value, (int, float)):
             text = fmt(scale * value)
         else:
             text = fmt(value)
         rows.append([label, text])
-    return [Table(["quantity", "value"], rows)]
+    out: list = [Table(["quantity", "value"], rows)]
+    # the bands the run analyses: every spectrum up to Nyquist, the envelope in its band
+    rate = (case.get("run") or {}).get("sample_rate_Hz")
+    bands = [("run.sample_rate_Hz / 2", 0.5 * float(rate))] if rate else []
+    if _envelope_band(figs):
+        bands.append(("the envelope analysis band", _envelope_band(figs)[1]))
+    notes = [n for n in (resolution_warning(stats, hz, what) for what, hz in bands) if n]
+    if notes:  # the envelope band's, the more specific, when both warn
+        out.append(Para(f"Warning: {notes[-1]}."))
+    elif stats.get("resolved_frequency") and bands:
+        out.append(Para("Every part resolves the bands the run analyses (criterion above)."))
+    return out
 
 
 def _stages(summary: dict) -> list:
@@ -343,6 +370,49 @@ def _spectral(figs: dict, run_dir: Path) -> list:
     return out + _figure(figs, run_dir, "third_octave")
 
 
+def _envelope_band(figs: dict) -> tuple[float, float] | None:
+    """The band of the envelope analysis (the kurtogram's band above fs/16, where the
+    re-stressing impulses ring), Hz."""
+    band = ((figs.get("envelope_spectrum") or {}).get("values") or {}).get("band_hz")
+    return (float(band[0]), float(band[1])) if band and len(band) == 2 else None
+
+
+def _modes(run_dir: Path, figs: dict) -> list:
+    """The outer ring's modes nearest the envelope band, computed here from case.yaml
+    (the mesh and a shift-invert Lanczos solve: a few seconds, no Taichi)."""
+    import warnings
+
+    from taichi_bearing.case import load_case
+    from taichi_bearing.errors import InputError
+    from taichi_bearing.modes.band import modes_near_band
+    from taichi_bearing.run_folder import CASE_FILE
+
+    band = _envelope_band(figs)
+    if band is None:
+        return [Para("No envelope band was found (figures.json), so no modes are named.")]
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            case = load_case(run_dir / CASE_FILE)
+        result = modes_near_band(case, band)
+    except (InputError, ValueError, KeyError, RuntimeError) as exc:
+        return [Para(f"The outer ring's modes were not computed: {exc}.")]
+    lo, hi = band
+    where = ["below" if m.frequency < lo else "above" if m.frequency > hi else "inside"
+             for m in result.modes]  # fmt: skip
+    rows = [
+        [fmt(m.frequency, 5), w, m.description] for m, w in zip(result.modes, where, strict=True)
+    ]
+    text = (
+        f"The envelope analysis uses {fmt(lo / 1e3, 3)}-{fmt(hi / 1e3, 3)} kHz, the band "
+        "the re-stressing impulses excite (the kurtogram's best band above fs/16). Of the "
+        f"{len(rows)} modes of the outer ring (with its adapter, held as in the run) "
+        f"nearest it, {where.count('inside')} lie inside; `python -m taichi_bearing modes` "
+        "lists the ring's modes from 0 Hz."
+    )
+    return [Para(text), Table(["frequency (Hz)", "band", "shape"], rows)]
+
+
 def _defect(summary: dict) -> list:
     est, true = summary.get("defect_size_estimate_m"), summary.get("defect_size_true_m")
     rows = [
@@ -402,13 +472,14 @@ def report_blocks(run_dir: str | os.PathLike) -> list:
         blocks.append(Para(f"summary.json lacks: {', '.join(summary['missing_keys'])}."))
     sections = {
         "Case": _case(case),
-        "Mesh": _mesh(summary, run_dir),
+        "Mesh": _mesh(summary, run_dir, case, figs),
         "Stages and times": _stages(summary),
         "Static load distribution": _static(summary),
         "Checks": _checks(summary),
         "Spall passages": _passages(summary, figs, run_dir),
         "Numerical noise and notch filters": _noise(summary, figs, run_dir),
         "Spectral analysis": _spectral(figs, run_dir),
+        "Modes near the re-stressing band": _modes(run_dir, figs),
         "Defect size": _defect(summary),
         "Deformed mesh at the spall": _figure(figs, run_dir, "deformed_spall"),
     }
