@@ -20,62 +20,59 @@ the vibration); the diagnosis is then made in the order domain:
 'order'
 """
 
-from diagnostics.defect_size import (
-    DefectSize,
-    contact_speed,
-    estimate_defect_size,
-    spall_length_from_travel,
-)
-from diagnostics.diagnose import Diagnosis, FamilyScore, diagnose, prewhiten
-from diagnostics.envelope import envelope, envelope_spectrum
-from diagnostics.filters import bandpass_filter, lowpass_filter, notch_filter
-from diagnostics.frequencies import BearingGeometry, FaultFrequencies, bearing_frequencies
-from diagnostics.io import Signal, read_signal, read_speed_profile
-from diagnostics.kurtosis import Kurtogram, kurtogram, sk_threshold, spectral_kurtosis
-from diagnostics.separation import Separation, discrete_random_separation
-from diagnostics.spectral import psd, stft, third_octave
-from diagnostics.speed import (
-    OrderTrack,
-    SpeedEstimate,
-    estimate_speed,
-    order_track,
-    shaft_angle,
-    speed_from_tacho,
-)
+import importlib
+import sys
+import types
 
-__all__ = [
-    "BearingGeometry",
-    "DefectSize",
-    "Diagnosis",
-    "FamilyScore",
-    "FaultFrequencies",
-    "Kurtogram",
-    "OrderTrack",
-    "Separation",
-    "Signal",
-    "SpeedEstimate",
-    "bandpass_filter",
-    "bearing_frequencies",
-    "contact_speed",
-    "diagnose",
-    "discrete_random_separation",
-    "envelope",
-    "envelope_spectrum",
-    "estimate_defect_size",
-    "estimate_speed",
-    "kurtogram",
-    "lowpass_filter",
-    "notch_filter",
-    "order_track",
-    "prewhiten",
-    "psd",
-    "read_signal",
-    "read_speed_profile",
-    "shaft_angle",
-    "sk_threshold",
-    "spall_length_from_travel",
-    "spectral_kurtosis",
-    "speed_from_tacho",
-    "stft",
-    "third_octave",
-]
+# Public name -> the module that defines it. The modules load on first use (PEP 562), so
+# ``python -m diagnostics --help`` and ``import diagnostics.files`` do not wait a second
+# for scipy.signal.
+_EXPORTS = {
+    "defect_size": ("DefectSize", "contact_speed", "estimate_defect_size",
+                    "spall_length_from_travel"),
+    "diagnose": ("Diagnosis", "FamilyScore", "diagnose", "prewhiten"),
+    "envelope": ("envelope", "envelope_spectrum"),
+    "filters": ("bandpass_filter", "lowpass_filter", "notch_filter"),
+    "frequencies": ("BearingGeometry", "FaultFrequencies", "bearing_frequencies"),
+    "io": ("Signal", "read_signal", "read_speed_profile"),
+    "kurtosis": ("Kurtogram", "kurtogram", "sk_threshold", "spectral_kurtosis"),
+    "separation": ("Separation", "discrete_random_separation"),
+    "spectral": ("psd", "stft", "third_octave"),
+    "speed": ("OrderTrack", "SpeedEstimate", "estimate_speed", "order_track", "shaft_angle",
+              "speed_from_tacho"),
+}  # fmt: skip
+_MODULE_OF = {name: module for module, names in _EXPORTS.items() for name in names}
+
+__all__ = sorted(_MODULE_OF)
+
+
+def __getattr__(name: str):
+    module = _MODULE_OF.get(name)
+    if module is None:  # a submodule, as `import diagnostics` made them all attributes
+        try:
+            return importlib.import_module(f"diagnostics.{name}")
+        except ModuleNotFoundError as exc:
+            if exc.name != f"diagnostics.{name}":
+                raise
+        raise AttributeError(f"module 'diagnostics' has no attribute {name!r}")
+    value = getattr(importlib.import_module(f"diagnostics.{module}"), name)
+    globals()[name] = value  # later look-ups skip this function
+    return value
+
+
+def __dir__() -> list[str]:
+    return sorted(set(globals()) | set(__all__))
+
+
+class _Package(types.ModuleType):
+    """This package, keeping its public functions ``diagnose`` and ``envelope`` over the
+    submodules of the same names: importing a submodule binds it on the package, and
+    once bound a name never reaches ``__getattr__``."""
+
+    def __setattr__(self, name: str, value) -> None:
+        if isinstance(value, types.ModuleType) and _MODULE_OF.get(name) == name:
+            value = getattr(value, name)  # the function, as an eager import gave
+        super().__setattr__(name, value)
+
+
+sys.modules[__name__].__class__ = _Package

@@ -14,14 +14,15 @@ import math
 import re
 import sys
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
 
-from diagnostics.compare import impact_times
-from diagnostics.diagnose import Diagnosis, diagnose, record_requirements
-from diagnostics.files import atomic_path, write_json
-from diagnostics.filters import notch_filter
+from diagnostics.files import atomic_path, output_folder, write_json
 from diagnostics.frequencies import BearingGeometry, bearing_frequencies
+
+if TYPE_CHECKING:  # scipy loads when a command runs, not for --help
+    from diagnostics.diagnose import Diagnosis
 
 __all__ = ["main", "build_parser", "parse_bearing", "UsageError"]
 
@@ -126,7 +127,9 @@ def add_analyze_arguments(parser: argparse.ArgumentParser) -> None:
         metavar="HZ",
         help="frequencies to notch out before the analysis",
     )
-    parser.add_argument("--out", type=Path, help="output folder (default: FILE_STEM-diagnostics)")
+    parser.add_argument(
+        "--out", metavar="DIR", help="output folder (default: FILE_STEM-diagnostics)"
+    )
 
 
 def _markers(d: Diagnosis) -> dict[str, float]:
@@ -162,6 +165,7 @@ _save = save_figure
 
 def _figures(x, fs: float, d: Diagnosis, notch: list[float], raw, out: Path) -> list[str]:
     from diagnostics import plots  # matplotlib only when figures are drawn
+    from diagnostics.compare import impact_times
 
     freqs = d.frequencies
     n_show = min(x.size, int(_TRACE_S * fs))
@@ -240,6 +244,8 @@ def check_fs_option(fs: float | None) -> None:
 def check_record_fits(sig, geometry: BearingGeometry, shaft_hz: float, fs_given: bool) -> None:
     """One line naming ``--fs`` (or the file) when the record cannot be diagnosed: a dead
     channel, a rate too low for the fault frequencies, or a record too short."""
+    from diagnostics.diagnose import record_requirements
+
     source = "--fs" if fs_given else f"the file's rate of {sig.fs:g} Hz"
     where = f"{sig.meta.get('path', '')}:{sig.name}"
     if np.ptp(sig.x) == 0.0:
@@ -307,6 +313,8 @@ def shaft_rate(args: argparse.Namespace, sig):
 
 
 def run_analyze(args: argparse.Namespace) -> int:
+    from diagnostics.diagnose import diagnose
+    from diagnostics.filters import notch_filter
     from diagnostics.io import read_signal
 
     geometry = parse_bearing(args.bearing)
@@ -317,12 +325,13 @@ def run_analyze(args: argparse.Namespace) -> int:
     rpm = float(rates.mean()) * 60.0
     check_notches(args.notch, sig.fs)
     check_record_fits(sig, geometry, float(rates.max()), args.fs is not None)
+    default_out = f"{Path(args.file).stem}-diagnostics"
+    out = output_folder(default_out if args.out is None else args.out, "--out")
     raw = sig.x
     x = raw
     for f0 in args.notch:
         x = notch_filter(x, sig.fs, f0)
     d = diagnose(x, sig.fs, geometry, shaft_hz)
-    out = args.out if args.out is not None else Path(f"{Path(args.file).stem}-diagnostics")
     figures = _figures(x, sig.fs, d, list(args.notch), raw, out)
     kg = d.kurtogram
     summary = {

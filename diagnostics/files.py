@@ -1,8 +1,10 @@
 """Safe file writing: results are written to a temporary name, then renamed into place,
-so a crash or Ctrl-C never leaves a half-written file. Shared by ``taichi_bearing``."""
+so a crash or Ctrl-C never leaves a half-written file; output folders are checked before
+anything is written to them. Shared by ``taichi_bearing``."""
 
 from __future__ import annotations
 
+import errno
 import json
 import math
 import os
@@ -13,7 +15,14 @@ from pathlib import Path
 
 import numpy as np
 
-__all__ = ["atomic_path", "write_json", "to_jsonable"]
+__all__ = [
+    "atomic_path",
+    "ensure_writable",
+    "nonempty_path",
+    "output_folder",
+    "to_jsonable",
+    "write_json",
+]
 
 
 @contextmanager
@@ -76,3 +85,108 @@ def write_json(path: str | os.PathLike, data: dict) -> Path:
     with atomic_path(path) as tmp:
         tmp.write_text(json.dumps(to_jsonable(data), indent=2) + "\n", encoding="utf-8")
     return Path(path)
+
+
+# What the user can do about the usual reasons a folder cannot be made or written in.
+_OS_REASONS = {
+    errno.EACCES: "permission denied",
+    errno.EPERM: "permission denied",
+    errno.EROFS: "read-only file system",
+    errno.ENOSPC: "no space left on the device",
+    errno.ENAMETOOLONG: "name too long",
+    errno.ENOENT: "the file system does not allow new entries there",
+}
+
+
+def _reason(exc: OSError) -> str:
+    return _OS_REASONS.get(exc.errno, (exc.strerror or str(exc)).lower())
+
+
+def nonempty_path(value: str | os.PathLike, option: str) -> Path:
+    """``value`` as a Path; an empty (or blank) value is refused, since ``Path("")`` is
+    the current folder and a command would write there unasked.
+
+    Raises
+    ------
+    ValueError
+        One line naming ``option`` (the argument the value came from).
+    """
+    if not str(value).strip():
+        example = f", e.g. {option} results" if option.startswith("--") else ""
+        raise ValueError(f"{option}: empty path; give a folder{example}")
+    return Path(value)
+
+
+def ensure_writable(folder: str | os.PathLike, option: str) -> None:
+    """Refuse a folder in which no file can be created (read-only, ``/proc``, permissions).
+
+    A temporary file is made and removed at once: only trying tells, for the file
+    systems (``/proc``, ``/sys``) where the permission bits do not.
+
+    Raises
+    ------
+    ValueError
+        One line naming ``option`` and the reason.
+    """
+    try:
+        with tempfile.TemporaryFile(dir=folder):
+            pass
+    except OSError as exc:
+        raise ValueError(f"{option}: cannot write in {folder}: {_reason(exc)}") from None
+
+
+def output_folder(value: str | os.PathLike, option: str = "--out") -> Path:
+    """Check and create an output folder; return it.
+
+    Refused, in one line naming ``option`` and with nothing left on disk: an empty path,
+    an existing file (or a path through one), a folder that cannot be made (e.g. under
+    ``/proc``) or written in.
+
+    Parameters
+    ----------
+    value : str or path-like
+        The folder as given (``--out DIR``, a case key or a command's default).
+    option : str
+        What a refusal names: the argument or key the folder came from.
+
+    Returns
+    -------
+    Path
+        The folder, which now exists.
+
+    Raises
+    ------
+    ValueError
+        If the folder cannot be used; any folder made here is removed again.
+
+    Examples
+    --------
+    >>> out = output_folder(args.out, "--out")      # doctest: +SKIP
+    """
+    path = nonempty_path(value, option)
+    try:
+        if path.exists() and not path.is_dir():
+            raise ValueError(f"{option}: {path} exists and is not a folder")
+        missing = []  # the folders to make, innermost first
+        parent = path
+        while not parent.exists() and parent.parent != parent:
+            missing.append(parent)
+            parent = parent.parent
+        if not parent.is_dir():
+            raise ValueError(f"{option}: {path}: {parent} is a file, not a folder")
+    except OSError as exc:  # e.g. a name too long to look up
+        raise ValueError(f"{option}: {path}: {_reason(exc)}") from None
+    made: list[Path] = []
+    try:
+        for folder in reversed(missing):
+            try:
+                folder.mkdir()
+            except OSError as exc:
+                raise ValueError(f"{option}: cannot create {folder}: {_reason(exc)}") from None
+            made.append(folder)
+        ensure_writable(path, option)
+    except ValueError:
+        for folder in reversed(made):  # nothing written on a refusal
+            folder.rmdir()
+        raise
+    return path

@@ -11,6 +11,7 @@ from __future__ import annotations
 import argparse
 import importlib
 import sys
+from collections.abc import Iterable
 
 from taichi_bearing.errors import InputError, SimulationError
 
@@ -25,8 +26,26 @@ COMMANDS = {
 }
 
 
-def build_parser() -> argparse.ArgumentParser:
-    parser = argparse.ArgumentParser(
+class _Parser(argparse.ArgumentParser):
+    """An argument parser whose errors are one line (argparse prints its whole usage
+    block); subcommand parsers are of this class too."""
+
+    def error(self, message: str):  # noqa: D401 - argparse API
+        self.exit(2, f"error: {self.prog}: {message} (see --help)\n")
+
+
+def build_parser(commands: Iterable[str] | None = None) -> argparse.ArgumentParser:
+    """The command line's parser.
+
+    Parameters
+    ----------
+    commands : iterable of str, optional
+        The subcommands whose arguments are added; default all of them. The others are
+        listed by name and help only, so that ``--help`` and ``run --help`` import no
+        other command's module. A command module imports only the standard library when
+        loaded (numpy, Taichi and scipy in its ``main``), so that ``--help`` answers at once.
+    """
+    parser = _Parser(
         prog="python -m taichi_bearing",
         description="2-D explicit dynamics of a roller bearing with a line spall.",
         epilog="A case file alone, as in 'python -m taichi_bearing cases/line_spall.yaml', "
@@ -34,9 +53,9 @@ def build_parser() -> argparse.ArgumentParser:
     )
     sub = parser.add_subparsers(dest="command", metavar="COMMAND")
     for name, help_text in COMMANDS.items():
-        module = importlib.import_module(f"taichi_bearing.commands.{name}")
         p = sub.add_parser(name, help=help_text, description=help_text)
-        module.add_arguments(p)
+        if commands is None or name in commands:
+            importlib.import_module(f"taichi_bearing.commands.{name}").add_arguments(p)
     return parser
 
 
@@ -44,7 +63,7 @@ def main(argv: list[str] | None = None) -> int:
     argv = list(sys.argv[1:] if argv is None else argv)
     if argv and argv[0] not in COMMANDS and not argv[0].startswith("-"):
         argv.insert(0, "run")
-    parser = build_parser()
+    parser = build_parser(argv[:1] if argv and argv[0] in COMMANDS else ())
     args = parser.parse_args(argv)
     if args.command is None:
         parser.print_help()

@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import dataclasses
 import time
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -28,6 +29,7 @@ from taichi_bearing.mesh.quality import resolution_warning
 from taichi_bearing.mesh.types import Mesh
 from taichi_bearing.output.checkpoint import fingerprint, latest_checkpoint
 from taichi_bearing.output.histories import read_histories
+from taichi_bearing.output.progress import LOG_INTERVAL_S, RelaxProgress
 from taichi_bearing.output.summary import write_summary
 from taichi_bearing.post.recheck import figures_and_report, write_partial_summary
 from taichi_bearing.recorders import CageRecorder, ContactForceRecorder, RollerMotionRecorder
@@ -137,8 +139,11 @@ def build_model(case: Case, mesh: Mesh, arch: str = "cpu", threads: int | None =
     return BearingModel(case, mesh, setup, model, contact, cage, recorders)
 
 
-def preload(bm: BearingModel) -> dict:
+def preload(bm: BearingModel, progress: Callable[[int, float], None] | None = None) -> dict:
     """Dynamic relaxation under the load with nothing turning; the static contact forces.
+
+    ``progress`` (e.g. :meth:`~taichi_bearing.output.progress.RelaxProgress.update`) is
+    called with the steps taken and the KE ratio as the relaxation goes.
 
     Returns
     -------
@@ -149,7 +154,7 @@ def preload(bm: BearingModel) -> dict:
     from taichi_bearing.solver import relax
 
     case, model = bm.case, bm.model
-    res = relax(model, case.preload.ke_ratio_tol, case.preload.max_steps)
+    res = relax(model, case.preload.ke_ratio_tol, case.preload.max_steps, progress=progress)
     if not res.converged:
         raise SimulationError(
             f"preload did not converge in {res.steps} steps (KE ratio {res.ke_ratio:.3g} > "
@@ -217,6 +222,7 @@ def run_case(
     arch: str | None = None,
     threads: int | None = None,
     quiet: bool = False,
+    progress_interval: float | None = LOG_INTERVAL_S,
     post: bool = True,
     log=print,
 ) -> dict:
@@ -233,6 +239,9 @@ def run_case(
         Override ``run.arch`` / ``run.threads``.
     quiet : bool
         No progress bar and no stage lines.
+    progress_interval : float, optional
+        Wall seconds between progress lines of the preload and the transient when stderr
+        is not a terminal (a log); None: none.
     post : bool
         Make figures and the report (when their modules are present).
     log : callable
@@ -272,6 +281,7 @@ def run_case(
     if note:
         log(f"warning: {note}")
 
+    say(f"model: starting Taichi ({arch}), assembling, finding the stable time step ...")
     t0 = time.perf_counter()
     bm = build_model(case, mesh, arch, threads)
     model = bm.model
@@ -293,7 +303,13 @@ def run_case(
             write_json(pre_path, pre)
     else:
         t0 = time.perf_counter()
-        pre = preload(bm)
+        with RelaxProgress(
+            case.preload.ke_ratio_tol,
+            case.preload.max_steps,
+            enabled=False if quiet else None,
+            log_every_s=progress_interval,
+        ) as bar:
+            pre = preload(bm, bar.update)
         pre["wall_s"] = times["preload"] = time.perf_counter() - t0
         say(
             f"preload: {pre['steps']} steps, KE ratio {pre['ke_ratio']:.2g}, "
@@ -318,6 +334,7 @@ def run_case(
         checkpoint_interval=case.run.checkpoint_interval,
         csv=case.output.csv,
         progress=False if quiet else None,
+        progress_interval=progress_interval,
     )
     size = {"n_elements": mesh.n_elements, "n_nodes": mesh.n_nodes}
     inputs = {"mesh_statistics": stats, "preload": pre, "setup_notes": bm.setup.notes}

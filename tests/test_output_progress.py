@@ -1,14 +1,16 @@
-"""Progress bar: simulated ms, steps/s and time left from a driven clock; TTY detection."""
+"""Progress: the bar (simulated ms, steps/s, time left) on a terminal, plain lines in a log,
+the preload's KE ratio; from a driven clock."""
 
 from __future__ import annotations
 
 import io
+import math
 
 import pytest
 import tqdm.std
 
 from taichi_bearing.output import progress
-from taichi_bearing.output.progress import RunProgress
+from taichi_bearing.output.progress import RelaxProgress, RunProgress, format_duration
 
 
 class FakeClock:
@@ -102,3 +104,96 @@ def test_write_goes_to_the_stream(clock):
 def test_bad_total_is_refused():
     with pytest.raises(ValueError, match="total_time"):
         RunProgress(0.0)
+
+
+def _lines(stream: io.StringIO) -> list[str]:
+    return stream.getvalue().splitlines()
+
+
+def test_piped_run_prints_a_line_per_interval_with_the_recent_pace_and_a_last_line(clock):
+    out = io.StringIO()
+    with RunProgress(4e-3, "transient", file=out, log_every_s=10.0) as bar:
+        assert not bar.enabled and bar.logging
+        clock.t += 5.0
+        bar.update(500, 0.5e-3)
+        assert out.getvalue() == ""  # not yet 10 s
+        clock.t += 5.0
+        bar.update(1000, 1e-3)  # 1 ms in 10 s: 100 steps/s
+        clock.t += 10.0
+        bar.update(3000, 2e-3)  # then 1 ms in 10 s at 200 steps/s: 2 ms left, 20 s
+    first, second, last = _lines(out)
+    assert first == (
+        "transient: 1.000/4.000 ms simulated (25%), step 1,000, 100 steps/s, "
+        "10.0 s so far, about 30.0 s left"
+    )
+    assert second == (
+        "transient: 2.000/4.000 ms simulated (50%), step 3,000, 200 steps/s, "
+        "20.0 s so far, about 20.0 s left"
+    )
+    # the last line: the mean rate over the whole run, no time left
+    assert (
+        last == "transient: 2.000/4.000 ms simulated (50%), step 3,000, 150 steps/s, 20.0 s in all"
+    )
+
+
+def test_lines_only_when_piped_and_asked_for(clock):
+    def shown(**kwargs) -> str:
+        stream = kwargs.pop("file", None) or io.StringIO()
+        with RunProgress(1e-3, "run", file=stream, **kwargs) as bar:
+            clock.t += 5.0
+            bar.update(100, 0.5e-3)
+        return stream.getvalue()
+
+    assert "0.500/1.000 ms simulated" in shown(log_every_s=1.0)
+    assert shown(log_every_s=1.0, quiet=True) == ""
+    assert shown(log_every_s=1.0, enabled=False) == ""
+    assert shown() == ""  # no interval: no lines
+    bar = shown(log_every_s=1.0, file=TTY())  # a terminal: the bar, not lines
+    assert "0.500/1.000 ms" in bar and "so far" not in bar and "in all" not in bar
+
+
+def test_relaxation_lines_show_steps_and_ke_ratio_against_the_tolerance(clock):
+    out = io.StringIO()
+    with RelaxProgress(1e-5, 200_000, file=out, log_every_s=10.0) as bar:
+        clock.t += 10.0
+        bar.update(4000, 3.2e-3)
+        clock.t += 4.0
+        bar.update(5000, 1.5e-5)  # not yet 10 s since the last line
+        clock.t += 1.0
+        bar.update(5050, 9.0e-6)
+    first, last = _lines(out)
+    assert first == (
+        "preload: KE ratio 0.0032 (stops below 1e-05), step 4,000 of at most 200,000, "
+        "400 steps/s, 10.0 s so far"
+    )
+    assert last == (
+        "preload: KE ratio 9e-06 (stops below 1e-05), step 5,050 of at most 200,000, "
+        "337 steps/s, 15.0 s in all"
+    )
+    quiet = io.StringIO()
+    with RelaxProgress(1e-5, 200_000, file=quiet, log_every_s=1.0, quiet=True) as bar:
+        clock.t += 5.0
+        bar.update(100, 0.5)
+    assert quiet.getvalue() == ""
+
+
+def test_relaxation_bar_is_on_log10_of_the_ke_ratio(clock):
+    tty = TTY()
+    bar = RelaxProgress(1e-4, 1000, file=tty)
+    assert bar.enabled and bar.fraction == 0.0  # no ratio yet
+    for ratio, fraction in ((1.0, 0.0), (1e-2, 0.5), (1e-3, 0.75), (1e-1, 0.25), (1e-6, 1.0)):
+        clock.t += 1.0
+        bar.update(100, ratio)
+        assert bar.fraction == pytest.approx(fraction)  # it may go back
+    assert "KE ratio 1e-06 (stops below 0.0001), step 100 of at most 1,000" in tty.getvalue()
+    bar.close()
+    bar.close()  # idempotent
+
+
+@pytest.mark.parametrize(
+    ("seconds", "text"),
+    [(8.24, "8.2 s"), (59.9, "59.9 s"), (312.0, "5 min 12 s"), (3725.0, "1 h 02 min")],
+)
+def test_format_duration(seconds, text):
+    assert format_duration(seconds) == text
+    assert format_duration(math.inf) == "?"

@@ -1,11 +1,13 @@
 """`python -m taichi_bearing CASE.yaml`: bad input exits 2 with one line; Ctrl-C keeps
 valid histories of everything up to that point; after kill -9 the run folder is still one
-(`post` checks what was recorded and says partial, `--resume` finishes it)."""
+(`post` checks what was recorded and says partial, `--resume` finishes it); piped into a
+log, a run prints progress lines of the preload and the transient (none with --quiet)."""
 
 from __future__ import annotations
 
 import json
 import os
+import re
 import shutil
 import signal
 import subprocess
@@ -217,3 +219,47 @@ def test_post_of_a_folder_without_the_reference_names_it_and_remesh_restores_it(
         "reference_roller_forces_N",
         "rolling_rates_rad_s",
     ]
+
+
+def _small_run(duration_ms: float) -> list[str]:
+    """The tiny case for ``duration_ms``, no checkpoints, frames or post-processing, with
+    progress lines every 0.2 s of wall time when stderr is a pipe."""
+    return [COARSE, "--set", "mesh.surface_size_mm=3", "--set", "mesh.max_size_mm=6",
+            "--set", f"run.duration_ms={duration_ms}", "--set", "output.frames=false",
+            "--threads", "1", "--no-post", "--progress-interval", "0.2"]  # fmt: skip
+
+
+PRELOAD_LINE = re.compile(
+    r"^preload: KE ratio \S+ \(stops below 0\.0001\), step [\d,]+ of at most [\d,]+, "
+    r"[\d,]+ steps/s, [\d.]+ s (so far|in all)$"
+)
+TRANSIENT_LINE = re.compile(
+    r"^transient: [\d.]+/0\.500 ms simulated \(\d+%\), step [\d,]+, [\d,]+ steps/s, "
+    r"[\d.]+ s (so far, about [\d.]+ s left|in all)$"
+)
+
+
+def _progress_lines(stderr: str, pattern: re.Pattern) -> list[str]:
+    return [line for line in stderr.splitlines() if pattern.match(line)]
+
+
+def test_piped_run_logs_the_preload_and_the_transient_periodically(tmp_path):
+    proc = _run(*_small_run(0.5), "--out", str(tmp_path / "run"))
+    assert proc.returncode == 0, proc.stderr
+    for pattern in (PRELOAD_LINE, TRANSIENT_LINE):
+        lines = _progress_lines(proc.stderr, pattern)
+        periodic = [line for line in lines if "so far" in line]
+        assert periodic, proc.stderr
+        assert lines[-1].endswith(" in all") and len(lines) == len(periodic) + 1
+    last = _progress_lines(proc.stderr, TRANSIENT_LINE)[-1]
+    assert last.startswith("transient: 0.500/0.500 ms simulated (100%)")
+    assert "\r" not in proc.stderr  # no bar drawn into a log
+
+
+def test_quiet_run_prints_no_progress(tmp_path):
+    proc = _run(*_small_run(0.5), "--quiet", "--out", str(tmp_path / "run"))
+    assert proc.returncode == 0, proc.stderr
+    stages = ("mesh:", "model:", "preload:", "transient:", "checks:", "results in")
+    shown = [line for line in proc.stderr.splitlines() if line.startswith(stages)]
+    assert shown == [] and proc.stdout.count("results in") == 0, proc.stderr
+    assert (tmp_path / "run" / "histories.parquet").is_file()

@@ -10,24 +10,16 @@ from __future__ import annotations
 import argparse
 import math
 from pathlib import Path
+from typing import TYPE_CHECKING
 
-import numpy as np
-import pandas as pd
-
-from diagnostics.files import atomic_path, write_json
-from taichi_bearing.bearing import fault_frequencies
-from taichi_bearing.case import Case, load_case_for_cli
-from taichi_bearing.commands.common import add_case_arguments
+from taichi_bearing.commands.common import add_case_arguments, case_output_folder
 from taichi_bearing.errors import InputError
-from taichi_bearing.quasistatic import (
-    LoadDistribution,
-    Spall,
-    defect_sweep,
-    solve_case,
-    spall_from_case,
-    static_contact_table,
-    stribeck_ratio,
-)
+
+if TYPE_CHECKING:  # numpy, pandas and the model load when the command runs, not for --help
+    import pandas as pd
+
+    from taichi_bearing.case import Case
+    from taichi_bearing.quasistatic import LoadDistribution, Spall
 
 FORCE_COLUMNS = (
     "cage_angle_deg",
@@ -52,6 +44,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 def forces_frame(dist: LoadDistribution) -> pd.DataFrame:
     """Long table: one row per cage angle and roller, columns :data:`FORCE_COLUMNS`."""
+    import numpy as np
+    import pandas as pd
+
     n_angles, z = dist.outer_fx.shape
     return pd.DataFrame(
         {
@@ -67,13 +62,34 @@ def forces_frame(dist: LoadDistribution) -> pd.DataFrame:
 
 
 def _write_csv(frame: pd.DataFrame, path: Path) -> Path:
+    from diagnostics.files import atomic_path
+
     with atomic_path(path) as tmp:
         frame.to_csv(tmp, index=False, float_format="%.10g")
     return path
 
 
+def _check_angles(n_angles: int) -> None:
+    if n_angles < 11:
+        raise InputError(f"--angles: need at least 11 cage angles, got {n_angles}")
+
+
+def _spall(case: Case) -> Spall | None:
+    """The case's spall; a defect the model does not cover is refused (InputError)."""
+    from taichi_bearing.quasistatic import spall_from_case
+
+    try:
+        return spall_from_case(case)
+    except ValueError as exc:
+        raise InputError(str(exc)) from None
+
+
 def _edge_sweeps(case: Case, spall: Spall, window: float, n: int = 801):
     """Fine sweeps of roller 0 across the entry and the exit edge (patch and step)."""
+    import numpy as np
+
+    from taichi_bearing.quasistatic import solve_case
+
     out = []
     for edge in (spall.entry, spall.exit):
         angles = edge + np.linspace(-window, window, n)
@@ -86,18 +102,25 @@ def run_analytic(case: Case, out: Path, n_angles: int = 2001) -> dict:
 
     Returns the summary written to ``analytic_summary.json``.
     """
+    import numpy as np
+    import pandas as pd
+
+    from diagnostics.files import write_json
+    from taichi_bearing.bearing import fault_frequencies
     from taichi_bearing.post.analytic_figures import (
         plot_defect_passage,
         plot_edge_zoom,
         plot_load_distribution,
     )
+    from taichi_bearing.quasistatic import (
+        defect_sweep,
+        solve_case,
+        static_contact_table,
+        stribeck_ratio,
+    )
 
-    if n_angles < 11:
-        raise InputError(f"--angles: need at least 11 cage angles, got {n_angles}")
-    try:
-        spall = spall_from_case(case)
-    except ValueError as exc:
-        raise InputError(str(exc)) from None
+    _check_angles(n_angles)
+    spall = _spall(case)
     out = Path(out)
     figures = out / "figures"
 
@@ -170,8 +193,12 @@ def run_analytic(case: Case, out: Path, n_angles: int = 2001) -> dict:
 
 
 def main(args: argparse.Namespace) -> int:
+    from taichi_bearing.case import load_case_for_cli
+
+    _check_angles(args.angles)
     case = load_case_for_cli(args.case, args.overrides)
-    out = Path(args.out) if args.out else case.out_dir
+    _spall(case)  # refused before the folder is made
+    out = case_output_folder(args.out, case)
     summary = run_analytic(case, out, args.angles)
     top = summary["most_loaded_roller"]
     print(

@@ -16,6 +16,7 @@ import math
 import sys
 from pathlib import Path
 
+from taichi_bearing.commands.common import check_empty, output_folder
 from taichi_bearing.errors import InputError
 
 RESTRESS_LABEL = "re-stressing (exit), from the run"
@@ -25,7 +26,6 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument(
         "run_dir",
         metavar="RUN_DIR",
-        type=Path,
         help="run folder of python -m taichi_bearing run (finished or not)",
     )
     parser.add_argument(
@@ -50,13 +50,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         help="sensor of the run (its radial acceleration) or a history column "
         "(default: the signal the run's checks analysed)",
     )
-    parser.add_argument("--out", type=Path, help="output folder (default: RUN_DIR/compare)")
-
-    def one_line_error(message: str):
-        # argparse prints the whole usage block; the project's promise is one line
-        parser.exit(2, f"error: {parser.prog}: {message}\n")
-
-    parser.error = one_line_error
+    parser.add_argument("--out", metavar="DIR", help="output folder (default: RUN_DIR/compare)")
 
 
 def _positive(value: float | None, option: str, what: str) -> None:
@@ -123,24 +117,26 @@ def main(args: argparse.Namespace) -> int:
 
     _positive(args.fs, "--fs", "frequency in Hz")
     _positive(args.rpm, "--rpm", "speed")
-    if not args.run_dir.is_dir():
-        raise InputError(f"{args.run_dir}: not a folder (give a simulated run folder)")
+    run_dir = check_empty(args.run_dir, "RUN_DIR")
+    if not run_dir.is_dir():
+        raise InputError(f"{run_dir}: not a folder (give a simulated run folder)")
+    out = run_dir / COMPARE_DIR if args.out is None else check_empty(args.out, "--out")
     try:
-        run, case, sim = simulated_record(args.run_dir, args.sensor)
+        run, case, sim = simulated_record(run_dir, args.sensor)
         if args.bearing:
             geometry = parse_bearing(args.bearing)
         else:
             geometry = None if case is None else case.bearing.geometry
         if geometry is None:
             raise InputError(
-                f"{args.run_dir}: no bearing geometry in case.yaml; give --bearing for the "
+                f"{run_dir}: no bearing geometry in case.yaml; give --bearing for the "
                 "measured records"
             )
         records = [sim] + [
             measured_record(path, geometry, rpm=args.rpm, fs=args.fs, channel=args.channel)
             for path in args.measured
         ]
-        out = args.out if args.out is not None else args.run_dir / COMPARE_DIR
+        output_folder(out, "--out")  # once every record has been read
         summary = compare_records(records, out)
     except (UsageError, ValueError, OSError) as exc:
         raise InputError(" ".join(str(exc).split())) from None

@@ -6,9 +6,8 @@ from __future__ import annotations
 import argparse
 import math
 import time
-from pathlib import Path
 
-from taichi_bearing.commands.common import add_case_arguments
+from taichi_bearing.commands.common import add_case_arguments, case_output_folder
 from taichi_bearing.errors import InputError
 
 
@@ -31,7 +30,6 @@ def main(args: argparse.Namespace) -> int:
     from taichi_bearing.post.mesh_render import render_mesh_pictures, write_mesh_vtu
 
     case = load_case_for_cli(args.case, args.overrides)
-    out = Path(args.out) if args.out else case.out_dir
     try:
         spec = spec_from_case(case)
         t0 = time.perf_counter()
@@ -39,6 +37,7 @@ def main(args: argparse.Namespace) -> int:
         seconds = time.perf_counter() - t0
     except ValueError as exc:  # geometry the mesher cannot build, e.g. a too thin ring
         raise InputError(f"{args.case}: cannot mesh this case: {exc}") from None
+    out = case_output_folder(args.out, case)  # after meshing: a refused case makes no folder
     m = case.material
     stats = mesh_statistics(mesh, m.youngs_modulus, m.poissons_ratio, m.density)
     files = [write_mesh_vtu(mesh, out / "mesh.vtu")]

@@ -12,6 +12,8 @@ from __future__ import annotations
 
 import argparse
 
+from taichi_bearing.commands.common import check_empty, ensure_writable
+
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("run_dir", help="run folder (case.yaml, preload.json, histories)")
@@ -28,8 +30,13 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 def main(args: argparse.Namespace) -> int:
     from taichi_bearing.post.recheck import recheck_run
+    from taichi_bearing.run_folder import CASE_FILE, SUMMARY_FILE
 
-    summary = recheck_run(args.run_dir, post=args.post, remesh=args.remesh)
+    run_dir = check_empty(args.run_dir, "RUN_DIR")
+    if any((run_dir / name).is_file() for name in (CASE_FILE, SUMMARY_FILE)):
+        # a run folder (else recheck_run says what it is not): post rewrites files in it
+        ensure_writable(run_dir, "RUN_DIR")
+    summary = recheck_run(run_dir, post=args.post, remesh=args.remesh)
     failed = [k for k, c in summary["checks"].items() if c["passed"] is False]
     partial = " (partial run: what was recorded)" if "partial" in summary else ""
     print(

@@ -12,7 +12,7 @@ import argparse
 import sys
 from pathlib import Path
 
-from taichi_bearing.commands.common import add_case_arguments
+from taichi_bearing.commands.common import add_case_arguments, check_empty, output_folder
 from taichi_bearing.errors import InputError
 
 
@@ -61,12 +61,14 @@ def main(args: argparse.Namespace) -> int:
         raise InputError(f"--threads: must be >= 1, got {args.threads}")
     if args.scheduler is not None and args.workers is not None:
         raise InputError("--workers: not used with --scheduler (the cluster has its workers)")
-    out = Path(args.out) if args.out else Path("runs") / f"sweep_{Path(args.case).stem}"
-    if out.exists() and not out.is_dir():
-        raise InputError(f"--out: {out} exists and is not a folder")
+    if args.out is None:
+        out = Path("runs") / f"sweep_{Path(args.case).stem}"
+    else:
+        out = check_empty(args.out, "--out")  # Path("") would resolve to here
     cells = make_cells(args.case, loads, speeds, out, args.overrides,
                        scale_duration=not args.fixed_duration, threads=args.threads,
                        post=not args.no_post)  # fmt: skip
+    output_folder(out)  # once the cases are valid: a refused sweep makes no folder
     results = run_sweep(cells, workers=args.workers, scheduler=args.scheduler,
                         progress=not args.quiet)  # fmt: skip
     from taichi_bearing.post.sweep_figures import write_sweep_outputs

@@ -24,7 +24,7 @@ import numpy as np
 from taichi_bearing.errors import InputError, SimulationError
 from taichi_bearing.output.checkpoint import latest_checkpoint, load_checkpoint, save_checkpoint
 from taichi_bearing.output.histories import HistoryWriter
-from taichi_bearing.output.progress import RunProgress
+from taichi_bearing.output.progress import LOG_INTERVAL_S, RunProgress
 from taichi_bearing.output.recorder import Recorder
 from taichi_bearing.output.vtk import FrameWriter
 from taichi_bearing.run_folder import (
@@ -80,7 +80,11 @@ class RunConfig:
     csv : bool
         Also write ``histories.csv``.
     progress : bool, optional
-        Show the progress bar (default: on a terminal).
+        True: the progress bar; False: no progress at all; None (default): the bar on a
+        terminal, else a line every ``progress_interval`` s.
+    progress_interval : float, optional
+        Wall seconds between progress lines when the output is not a terminal (a log);
+        None: no lines.
     keep_checkpoints : int
         How many checkpoints to keep.
     """
@@ -94,6 +98,7 @@ class RunConfig:
     chunk_rows: int = 4096
     csv: bool = False
     progress: bool | None = None
+    progress_interval: float | None = LOG_INTERVAL_S
     keep_checkpoints: int = 3
 
 
@@ -252,6 +257,7 @@ def run_transient(
             n_samples / config.sample_rate,
             "transient",
             enabled=config.progress,
+            log_every_s=config.progress_interval,
             start_time=k0 * s_steps * dt,
             start_step=k0 * s_steps,
         ) as bar:

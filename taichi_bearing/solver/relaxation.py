@@ -9,6 +9,7 @@ loaded mode. Loads act at full value and prescribed rotations are held at angle 
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass
 
 from taichi_bearing.errors import SimulationError
@@ -33,6 +34,7 @@ def relax(
     max_steps: int = 200_000,
     check_every: int = 50,
     min_steps: int = 200,
+    progress: Callable[[int, float], None] | None = None,
 ) -> RelaxResult:
     """Bring ``model`` to static equilibrium under its loads by damped steps.
 
@@ -49,6 +51,9 @@ def relax(
         Steps between energy read-outs (and damping updates).
     min_steps : int
         Do not stop before this many steps (the load must first set the body moving).
+    progress : callable, optional
+        Called after each energy read-out with the steps taken and the KE ratio (e.g.
+        :meth:`taichi_bearing.output.progress.RelaxProgress.update`); it only reads them.
 
     Returns
     -------
@@ -81,6 +86,8 @@ def relax(
             omega2 = 2.0 * (e["internal"] + e["hourglass"]) / e["mass_u2"]
             c = min(2.0 * math.sqrt(max(omega2, 0.0)), c_max)
         ratio = ke / ke_peak if ke_peak > 0 else math.inf
+        if progress is not None:
+            progress(steps, ratio)
         if steps >= min_steps and ratio < ke_ratio_tol:
             break
     model.set_state(v=model.velocities() * 0.0)
