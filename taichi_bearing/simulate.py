@@ -13,6 +13,7 @@ plain data of the one before: the case, the mesh (:mod:`taichi_bearing.mesh`), t
 from __future__ import annotations
 
 import dataclasses
+import math
 import time
 from collections.abc import Callable
 from dataclasses import dataclass, field
@@ -23,6 +24,7 @@ import yaml
 
 from diagnostics.files import to_jsonable, write_json
 from taichi_bearing.case import Case, case_to_dict
+from taichi_bearing.contact_pressure import raceway_patch
 from taichi_bearing.errors import InputError, SimulationError
 from taichi_bearing.mesh import build_bearing_mesh, mesh_statistics, spec_from_case
 from taichi_bearing.mesh.quality import resolution_warning
@@ -149,7 +151,10 @@ def preload(bm: BearingModel, progress: Callable[[int, float], None] | None = No
     -------
     dict
         ``steps``, ``ke_ratio``, ``converged``, ``outer_force_N`` and ``inner_force_N``
-        (normal force of each roller on each raceway at the end), ``plate_drop_m``.
+        (normal force of each roller on each raceway at the end), ``plate_drop_m``,
+        ``contact_patch`` (the most loaded roller's outer contact: half-width and peak
+        pressure from the nodal forces beside Hertz's,
+        :func:`taichi_bearing.contact_pressure.raceway_patch`).
     """
     from taichi_bearing.solver import relax
 
@@ -163,6 +168,17 @@ def preload(bm: BearingModel, progress: Callable[[int, float], None] | None = No
     forces = np.asarray(bm.contact.current_resultants())[bm.setup.pair_table]  # (roller, race, 4)
     top = bm.mesh.node_sets["adapter_top"]
     drop = float(-np.mean(model.displacements()[top, 1]))
+    # the most loaded roller's outer contact as the mesh resolves it, beside Hertz
+    j = int(np.argmax(forces[:, 0, 2]))
+    cx, cy = np.asarray(bm.mesh.info["roller_centres"], dtype=float)[j]
+    patch = raceway_patch(
+        model.positions(),
+        bm.contact.nodal_forces(),
+        np.asarray(bm.mesh.surfaces["outer_raceway"]),
+        math.atan2(cy, cx),
+        case.bearing,
+        case.material,
+    )
     return {
         "steps": res.steps,
         "ke_ratio": res.ke_ratio,
@@ -172,6 +188,7 @@ def preload(bm: BearingModel, progress: Callable[[int, float], None] | None = No
         "outer_fx_N": forces[:, 0, 0].tolist(),
         "outer_fy_N": forces[:, 0, 1].tolist(),
         "plate_drop_m": drop,
+        "contact_patch": {"roller": j, "race": "outer", **patch},
     }
 
 
@@ -364,6 +381,9 @@ def run_case(
             },
             "mass_scaling": _mass_scaling(model, mesh),
             "n_steps": int(model.step_count),
+            # preload and transient steps by stepping mode: "serial" where other
+            # processes kept the cores busy (see solver.stepping.choose_mode)
+            "steps_by_mode": dict(model.steps_by_mode),
             "wall_time_s": times["transient"],
             "element_steps_per_s": (
                 mesh.n_elements * _steps_this_call(result, model, case, resume)
