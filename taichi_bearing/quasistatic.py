@@ -61,6 +61,7 @@ from taichi_bearing.bearing import (
     wrap_angle,
 )
 from taichi_bearing.case import Bearing, Case, Material
+from taichi_bearing.mesh.spall_profile import SpallProfile
 
 __all__ = [
     "ContactModel",
@@ -126,11 +127,16 @@ def contact_model(
 
 @dataclass(frozen=True)
 class Spall:
-    """A rectangular notch on the outer raceway: angular extent (rad) and depth (m)."""
+    """A line spall on the outer raceway: angular extent (rad, from 12 o'clock, between
+    its edges at the raceway), depth (m), the walls' angles from the raceway (rad; pi/2:
+    radial) and the radius rounding both edges (m; 0: sharp)."""
 
     entry: float  # angle of the entry edge (rollers arrive here first)
     exit: float
     depth: float
+    entry_slope: float = 0.5 * math.pi
+    exit_slope: float = 0.5 * math.pi
+    edge_radius: float = 0.0
 
     @property
     def centre(self) -> float:
@@ -139,6 +145,31 @@ class Spall:
     @property
     def half_angle(self) -> float:
         return 0.5 * (self.exit - self.entry)
+
+    def profile(self, raceway_radius: float) -> SpallProfile:
+        """The cross-section, angles from +x, centred on the bearing's 12 o'clock
+        branch of the spall's centre (see :mod:`taichi_bearing.mesh.spall_profile`)."""
+        return SpallProfile(
+            raceway_radius,
+            self.entry + 0.5 * math.pi,
+            self.exit + 0.5 * math.pi,
+            self.depth,
+            outward=True,
+            start_slope=self.entry_slope,
+            end_slope=self.exit_slope,
+            edge_radius=self.edge_radius,
+        )
+
+    @property
+    def rectangular(self) -> bool:
+        """Radial walls and sharp edges: the model of design section 4 as it was first
+        written (:func:`_supports`)."""
+        right = 0.5 * math.pi
+        return (
+            abs(self.entry_slope - right) < 1e-12
+            and abs(self.exit_slope - right) < 1e-12
+            and self.edge_radius == 0.0
+        )
 
 
 def spall_from_case(case: Case) -> Spall | None:
@@ -157,7 +188,14 @@ def spall_from_case(case: Case) -> Spall | None:
             f"defect.race: the analytical model covers outer-race spalls, got {d.race!r}"
         )
     half = 0.5 * d.length / case.bearing.outer_raceway_radius
-    return Spall(entry=d.angle - half, exit=d.angle + half, depth=d.depth)
+    return Spall(
+        entry=d.angle - half,
+        exit=d.angle + half,
+        depth=d.depth,
+        entry_slope=d.entry_slope,
+        exit_slope=d.exit_slope,
+        edge_radius=d.edge_radius,
+    )
 
 
 @dataclass(frozen=True)
@@ -227,6 +265,8 @@ def _supports(psi, b, cm: ContactModel, spall: Spall | None, mode: str):
     radial = _unit(psi)
     if spall is None:
         return np.zeros((1, *psi.shape)), np.ones((1, *psi.shape)), radial[None]
+    if not spall.rectangular:
+        return _profile_supports(psi, b, cm, spall, mode)
     r, r_o, depth = cm.roller_radius, cm.outer_raceway_radius, spall.depth
     rel = wrap_angle(psi - spall.centre)
     half = spall.half_angle
@@ -259,6 +299,64 @@ def _supports(psi, b, cm: ContactModel, spall: Spall | None, mode: str):
     phi = np.stack([below_entry, below_exit - below_entry, 1.0 - below_exit])
     u = np.stack([u_a, radial, u_b])
     return h, phi, u
+
+
+def _profile_supports(psi, b, cm: ContactModel, spall: Spall, mode: str):
+    """:func:`_supports` for a spall with sloped walls or rounded edges.
+
+    The roller follows its rigid path over the profile (:mod:`taichi_bearing.roller_path`):
+    each support's drop is its first touch. Entry: the raceway before the edge and the
+    edge itself (corner, or rounded edge). Floor: the floor (drop = depth, as in the
+    rectangular model), the walls, and each edge that is not a sharp radial one, on which
+    the roller keeps pivoting after its patch has crossed the edge until it meets the wall
+    or the floor (a sharp radial edge is as in the rectangular model: the patch loses its
+    support as it crosses it). Exit: the edge and the raceway after it. The Hertz patch
+    is shared at the edges at the raceway as in the rectangular model, so a side with a
+    sharp radial wall behaves exactly as there. The "step" model drops the roller by the
+    profile's depth at its foot.
+    """
+    from taichi_bearing.roller_path import side_touch, wall_touch
+
+    r, r_o, depth = cm.roller_radius, cm.outer_raceway_radius, spall.depth
+    radial = _unit(psi)
+    # angles near the spall on one branch, from +x
+    phi = spall.centre + wrap_angle(psi - spall.centre) + 0.5 * np.pi
+    profile = spall.profile(r_o)
+    if mode == "step":
+        return profile.depth_at(phi)[None], np.ones((1, *psi.shape)), radial[None]
+    healthy = r_o - r
+
+    def support(touches):
+        rho = np.stack([t[0] for t in touches])
+        k = np.argmin(rho, axis=0)
+        rho = np.take_along_axis(rho, k[None], 0)[0]
+        contact = np.stack([np.broadcast_to(t[1], (*psi.shape, 2)) for t in touches])
+        contact = np.take_along_axis(contact, k[None, ..., None], 0)[0]
+        h = np.minimum(rho - healthy, depth)  # the floor stops the rigid roller first
+        centre = (healthy + h)[..., None] * radial
+        u = contact - centre
+        u /= np.maximum(np.linalg.norm(u, axis=-1, keepdims=True), 1e-300)
+        return h, np.where((h < depth)[..., None], u, radial)
+
+    right = 0.5 * np.pi
+    pivots = [
+        side_touch(phi, profile, r, start, False)
+        for start, slope in ((True, spall.entry_slope), (False, spall.exit_slope))
+        if not (abs(slope - right) < 1e-12 and spall.edge_radius == 0.0)
+    ]
+    e = np.stack([np.cos(phi), np.sin(phi)], axis=-1)
+    walls = [wall_touch(e, edge, r) for edge in (profile.start_edge, profile.end_edge)]
+    floor = (np.full(psi.shape, healthy + depth), (r_o + depth) * radial)
+    h_a, u_a = support([side_touch(phi, profile, r, True, True)])
+    h_b, u_b = support([floor, *walls, *pivots])
+    h_c, u_c = support([side_touch(phi, profile, r, False, True)])
+    rel = wrap_angle(psi - spall.centre)
+    half = spall.half_angle
+    below_entry = support_fraction(-r_o * (rel + half) / b)
+    below_exit = support_fraction(r_o * (half - rel) / b)
+    h = np.stack([h_a, h_b, h_c])
+    phi_k = np.stack([below_entry, below_exit - below_entry, 1.0 - below_exit])
+    return h, phi_k, np.stack([u_a, u_b, u_c])
 
 
 def _roller_forces(delta_r, psi, cm: ContactModel, spall: Spall | None, mode: str):

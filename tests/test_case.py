@@ -124,7 +124,7 @@ def test_attribute_is_key_without_unit_suffix():
     attrs = schema_attributes()
     assert attrs["bearing"][:3] == ["n_rollers", "roller_diameter", "pitch_diameter"]
     assert attrs["material"] == ["youngs_modulus", "poissons_ratio", "density"]
-    assert attrs["defect"] == ["race", "angle", "length", "depth"]
+    assert attrs["defect"][:4] == ["race", "angle", "length", "depth"]
     assert attrs["operating"] == ["load", "speed"]
     assert attrs["contact"][4] == "friction_decay"
     assert attrs["sensors"] == ["x", "y"]
@@ -376,7 +376,7 @@ def test_every_key_has_a_comment_and_its_unit():
     reference = render_reference()
     keys = [(f"{name}.{k.name}", k) for name, sec in SECTIONS.items() for k in sec.keys]
     keys += [(f"sensors.<name>.{k.name}", k) for k in SENSOR_KEYS]
-    assert len(keys) == 53
+    assert len(keys) == 56
     for path, k in keys:
         assert len(k.doc.split()) >= 2, path
         assert f"| `{k.name}` |" in reference, path
@@ -508,7 +508,7 @@ BAD_FILES = {
     "duplicate": (
         lambda t: _edit(t, "  load_kN: 50.0 ", "  load_kN: 50.0\n  load_kN: 90.0 "),
         "operating.load_kN",
-        "given twice (lines 46 and 47)",
+        "given twice (lines 52 and 53)",
     ),
     "duplicate sensor": (
         lambda t: _edit(t, "    y_mm: 156.0 ", "    y_mm: 156.0\n    y_mm: 150.0 "),

@@ -114,13 +114,19 @@ class Bearing:
         return BearingGeometry(self.n_rollers, self.roller_diameter, self.pitch_diameter)
 
 
+RIGHT_ANGLE = 90.0 * (math.pi / 180.0)  # as 90 deg in a file loads, to the last bit
+
+
 @dataclass(frozen=True)
 class Defect:
-    """Line spall: a rectangular notch with sharp edges across the raceway.
+    """Line spall across the raceway: a notch with sharp radial walls by default, or
+    with sloped walls and rounded edges.
 
     ``angle`` is the position of the spall centre (rad, from 12 o'clock, counter-clockwise;
     for the inner race, in the inner ring's own frame at t = 0), ``length`` its arc length
-    along the raceway and ``depth`` its radial depth (m).
+    along the raceway between its edges at the surface and ``depth`` its radial depth (m);
+    ``entry_slope`` and ``exit_slope`` (rad) the walls' angles from the raceway, entry
+    being the edge the rollers reach first; ``edge_radius`` (m) rounds both edges.
     """
 
     race: Literal["outer", "inner", "none"] = key(
@@ -136,6 +142,29 @@ class Defect:
         "spacing is an extended defect (warned)",
     )
     depth: float = key("mm", ge=0.0, doc="radial depth, > 0 with a defect, less than half the ring")
+    entry_slope: float = key(
+        "deg",
+        gt=0.0,
+        le=90.0,
+        default=RIGHT_ANGLE,
+        doc="wall at the edge the rollers reach first, from the raceway's tangent there: "
+        "90 is the sharp radial wall; on the curved raceway the wall reaches the floor a "
+        "little before depth / tan(slope)",
+    )
+    exit_slope: float = key(
+        "deg",
+        gt=0.0,
+        le=90.0,
+        default=RIGHT_ANGLE,
+        doc="wall at the edge the rollers leave over (the re-stressing), as entry_slope_deg",
+    )
+    edge_radius: float = key(
+        "mm",
+        ge=0.0,
+        default=0.0,
+        doc="rounds both edges at the raceway (tangent to the raceway and the wall); 0 is "
+        "sharp; at most what fits the walls",
+    )
 
     @property
     def present(self) -> bool:

@@ -188,6 +188,7 @@ def _check_defect(case: Case, src: str | None) -> None:
             f"({0.5 * circumference * MM:.4g} mm)",
             src,
         )
+    _check_profile(case, raceway, src)
     spacing = b.roller_spacing * raceway
     if d.length >= spacing:
         warnings.warn(
@@ -200,6 +201,28 @@ def _check_defect(case: Case, src: str | None) -> None:
             ),
             stacklevel=4,
         )
+
+
+def _check_profile(case: Case, raceway: float, src: str | None) -> None:
+    """Sloped walls must leave a floor, and an edge radius must fit its walls."""
+    from taichi_bearing.mesh.spall_profile import SpallProfile
+
+    d = case.defect
+    outer = d.race == "outer"
+    slopes = {"entry_slope_deg": d.entry_slope, "exit_slope_deg": d.exit_slope}
+    start, end = (d.entry_slope, d.exit_slope) if outer else (d.exit_slope, d.entry_slope)
+    names = ("entry", "exit") if outer else ("exit", "entry")
+    span = d.length / raceway
+    try:
+        SpallProfile(raceway, 0.0, span, d.depth, outer, start, end, 0.0, names)
+    except ValueError as exc:
+        shallow = min(slopes, key=slopes.get)
+        raise CaseError(f"defect.{shallow}", f"{exc}: steepen a wall or lengthen the spall",
+                        src) from None  # fmt: skip
+    try:
+        SpallProfile(raceway, 0.0, span, d.depth, outer, start, end, d.edge_radius, names)
+    except ValueError as exc:
+        raise CaseError("defect.edge_radius_mm", str(exc), src) from None
 
 
 def stable_step_estimate(case: Case) -> float:

@@ -14,6 +14,7 @@ import numpy as np
 
 from taichi_bearing.mesh.adapter import adapter_corner_angles, adapter_mesh
 from taichi_bearing.mesh.grid import boundary_segments, chain_segments, merge_nodes, orient_ccw
+from taichi_bearing.mesh.profile_ring import ProfileMap, profile_map, profile_ring_mesh
 from taichi_bearing.mesh.rings import TWO_PI, Notch, RingMesh, ring_mesh
 from taichi_bearing.mesh.rollers import roller_mesh
 from taichi_bearing.mesh.spec import BearingMeshSpec, polar_from_top
@@ -39,7 +40,8 @@ def build_bearing_mesh(spec: BearingMeshSpec) -> Mesh:
     notch_inner = _notch(spec, "inner", spec.inner_raceway_radius)
 
     outer, adapter_top = _outer_ring_with_adapter(spec, notch_outer)
-    inner = ring_mesh(
+    inner = _ring(
+        notch_inner,
         spec.inner_raceway_radius,
         spec.inner_ring_thickness,
         False,
@@ -47,7 +49,6 @@ def build_bearing_mesh(spec: BearingMeshSpec) -> Mesh:
         spec.surface_size,
         spec.max_size,
         spec.growth,
-        notch_inner,
     )
     bodies = [
         ("outer_ring", outer.nodes, outer.elements),
@@ -85,24 +86,43 @@ def build_bearing_mesh(spec: BearingMeshSpec) -> Mesh:
         name: int(np.argmin(np.hypot(*(mesh.nodes - np.asarray(xy, dtype=float)).T)))
         for name, xy in spec.sensors.items()
     }
-    mesh.info = _info(spec, mesh, centres, outer, inner, notch_outer, notch_inner)
+    mesh.info = _info(spec, mesh, centres, outer, inner, notch_outer, notch_inner, offsets)
     return mesh
 
 
-def _notch(spec: BearingMeshSpec, race: str, radius: float) -> Notch | None:
+def _notch(spec: BearingMeshSpec, race: str, radius: float) -> Notch | ProfileMap | None:
+    """The rectangular notch (sharp radial walls), or the raceway level that follows a
+    profile with sloped or rounded edges."""
     if not spec.has_defect or spec.defect_race != race:
         return None
+    profile = spec.spall_profile()
+    if not profile.rectangular:
+        thickness = spec.outer_ring_thickness if race == "outer" else spec.inner_ring_thickness
+        return profile_map(profile, thickness, spec.surface_size, spec.growth, spec.max_size)
     span = spec.defect_length / radius
     start = polar_from_top(spec.defect_angle) - 0.5 * span
     return Notch(start=start, span=span, depth=spec.defect_depth)
 
 
-def _snap(angles: list[float], notch: Notch | None, radius: float, size: float) -> list[float]:
+def _ring(notch: Notch | ProfileMap | None, *args) -> RingMesh:
+    """:func:`ring_mesh`, or :func:`profile_ring_mesh` for a profiled spall."""
+    if isinstance(notch, ProfileMap):
+        return profile_ring_mesh(*args, notch)
+    return ring_mesh(*args, notch)
+
+
+def _snap(
+    angles: list[float], notch: Notch | ProfileMap | None, radius: float, size: float
+) -> list[float]:
     """Breakpoint angles with any that lies within half a cell of a spall edge moved onto
-    that edge (the spall edges themselves are added by the ring mesher)."""
+    that edge (the spall edges themselves are added by the ring mesher; a profiled
+    spall's fixed points are its window's ends and the ends of its pieces)."""
     if notch is None:
         return list(angles)
-    edges = np.array([notch.start, notch.start + notch.span])
+    if isinstance(notch, ProfileMap):
+        edges = notch.fixed_u
+    else:
+        edges = np.array([notch.start, notch.start + notch.span])
     out = []
     for a in angles:
         gap = np.abs(np.mod(a - edges + math.pi, TWO_PI) - math.pi)
@@ -112,7 +132,7 @@ def _snap(angles: list[float], notch: Notch | None, radius: float, size: float) 
 
 
 def _outer_ring_with_adapter(
-    spec: BearingMeshSpec, notch: Notch | None
+    spec: BearingMeshSpec, notch: Notch | ProfileMap | None
 ) -> tuple[RingMesh, np.ndarray]:
     """The outer ring and the adapter merged into one body, and the adapter top's nodes."""
     corners = adapter_corner_angles(spec.outer_ring_outer_radius, spec.adapter_width)
@@ -120,7 +140,8 @@ def _outer_ring_with_adapter(
     # that little narrower or wider): two breakpoints that close would make a sliver.
     corners = _snap(list(corners), notch, spec.outer_raceway_radius, spec.surface_size)
     corners = [float(np.mod(a, TWO_PI)) for a in corners]
-    ring = ring_mesh(
+    ring = _ring(
+        notch,
         spec.outer_raceway_radius,
         spec.outer_ring_thickness,
         True,
@@ -128,7 +149,6 @@ def _outer_ring_with_adapter(
         spec.surface_size,
         spec.max_size,
         spec.growth,
-        notch,
     )
     theta = np.mod(ring.back_theta, TWO_PI)
     eps = 1e-9
@@ -160,7 +180,7 @@ def _body_surface(mesh: Mesh, part: int, on_radius) -> np.ndarray:
     return chains[0]
 
 
-def _info(spec, mesh, centres, outer, inner, notch_outer, notch_inner) -> dict:
+def _info(spec, mesh, centres, outer, inner, notch_outer, notch_inner, offsets) -> dict:
     walls = {"outer_raceway": 0, "inner_raceway": 0}
     spall = None
     for race, notch, ring, radius in (
@@ -168,6 +188,10 @@ def _info(spec, mesh, centres, outer, inner, notch_outer, notch_inner) -> dict:
         ("inner", notch_inner, inner, spec.inner_raceway_radius),
     ):
         if notch is None:
+            continue
+        if isinstance(notch, ProfileMap):
+            walls[f"{race}_raceway"] = ring.info["wall_segments"]
+            spall = _profile_info(race, notch, ring, offsets[0 if race == "outer" else 1])
             continue
         walls[f"{race}_raceway"] = 2 * ring.n_thin
         spall = _spall_info(mesh, race, notch, radius, ring.n_thin)
@@ -254,4 +278,31 @@ def _spall_info(mesh: Mesh, race: str, notch: Notch, radius: float, n_thin: int)
         "floor_radius": floor,
         "wall_layers": n_thin,
         "corner_nodes": np.asarray(corners),
+    }
+
+
+def _profile_info(race: str, pmap: ProfileMap, ring: RingMesh, offset: int) -> dict:
+    """The spall's geometry as for a rectangular notch, with its slopes and edge
+    radius, and the nodes at its corners (the walls' feet, and the edges when sharp) as
+    ``corner_nodes``, in order of angle."""
+    p = pmap.profile
+    centre = 0.5 * (p.start + p.end)
+    floor = p.floor_angles
+    return {
+        "race": race,
+        "start_angle": p.start,
+        "end_angle": p.end,
+        "centre_angle": centre,
+        "centre_angle_from_top": centre - TOP,
+        "length": p.length,
+        "depth": p.depth,
+        "raceway_radius": p.raceway_radius,
+        "floor_radius": p.floor_radius,
+        "floor_start_angle": floor[0],
+        "floor_end_angle": floor[1],
+        "start_slope": p.start_slope,
+        "end_slope": p.end_slope,
+        "edge_radius": p.edge_radius,
+        "wall_layers": pmap.m,
+        "corner_nodes": np.asarray(ring.info["corner_nodes"]) + offset,
     }

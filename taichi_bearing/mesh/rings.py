@@ -118,13 +118,7 @@ def ring_mesh(
     if notch is not None:
         near, n_thin = notch_depths(far, notch.depth)
         frozen = n_thin + 1
-    mid = 0.5 * (far[1:] + far[:-1])
-    widths = size * (raceway_radius + sign * mid) / raceway_radius
-    ratios = coarsening_rows(t, widths, max_size, frozen=frozen)
-    plans = []
-    for ratio in ratios:
-        plan, arcs = plan_row(arcs, ratio)
-        plans.append(plan if ratio > 1 else None)
+    ratios, plans = plan_rows(arcs, t, far, raceway_radius, sign, size, max_size, frozen)
 
     def weight(theta: np.ndarray) -> np.ndarray:
         # The thin notch layers end within one cell of the walls: only the elements that
@@ -166,6 +160,30 @@ def ring_mesh(
         n_thin=n_thin,
         info={"coarsening_rows": [k for k, r in enumerate(ratios) if r > 1]},
     )
+
+
+def plan_rows(
+    arcs: list[int],
+    layers: np.ndarray,
+    depths: np.ndarray,
+    radius: float,
+    sign: float,
+    size: float,
+    max_size: float,
+    frozen: int,
+) -> tuple[list[float], list]:
+    """The coarsening ratio of every row of a ring (``layers`` thick, at ``depths`` behind
+    the raceway of ``radius``, deeper by ``sign``) and each row's template plan (None
+    for a plain row), from the raceway's cell count per arc; the first ``frozen`` rows
+    stay plain."""
+    mid = 0.5 * (depths[1:] + depths[:-1])
+    widths = size * (radius + sign * mid) / radius
+    ratios = coarsening_rows(layers, widths, max_size, frozen=frozen)
+    plans = []
+    for ratio in ratios:
+        plan, arcs = plan_row(arcs, ratio)
+        plans.append(plan if ratio > 1 else None)
+    return ratios, plans
 
 
 def _arc_cells(theta: np.ndarray, breakpoints: list[float]) -> list[int]:

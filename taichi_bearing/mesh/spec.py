@@ -11,6 +11,7 @@ import math
 from dataclasses import dataclass, field
 
 from taichi_bearing.case import Bearing
+from taichi_bearing.mesh.spall_profile import SpallProfile
 
 
 def polar_from_top(angle_from_top: float) -> float:
@@ -41,7 +42,13 @@ class BearingMeshSpec:
     defect_angle : float
         Centre of the spall, rad from 12 o'clock, counter-clockwise.
     defect_length, defect_depth : float
-        Arc length along the raceway and radial depth of the notch, m.
+        Arc length along the raceway (between the sharp edges at the surface) and radial
+        depth of the notch, m.
+    defect_entry_slope, defect_exit_slope : float
+        Angle of each wall from the raceway's tangent at its edge, rad (pi/2: radial, the
+        rectangular notch); entry is the edge the rollers reach first.
+    defect_edge_radius : float
+        Radius rounding both edges at the raceway, m (0: sharp).
     surface_size, max_size, growth : float
         Element size along contact surfaces, largest element size, m, and the thickness
         ratio between neighbouring element layers.
@@ -69,6 +76,9 @@ class BearingMeshSpec:
     defect_angle: float = 0.0
     defect_length: float = 0.010
     defect_depth: float = 0.0002
+    defect_entry_slope: float = 0.5 * math.pi
+    defect_exit_slope: float = 0.5 * math.pi
+    defect_edge_radius: float = 0.0
     surface_size: float = 0.0005
     max_size: float = 0.003
     growth: float = 1.3
@@ -116,6 +126,7 @@ class BearingMeshSpec:
             )
             if not self.defect_depth < 0.5 * ring:
                 raise ValueError("defect_depth must be less than half the ring thickness")
+            self.spall_profile()  # raises ValueError when the slopes or radius do not fit
         if self.adapter_width > 0:
             if not self.adapter_width < 2 * self.outer_ring_outer_radius:
                 raise ValueError("adapter_width must be less than the outer ring's diameter")
@@ -176,6 +187,30 @@ class BearingMeshSpec:
         """Height of the adapter's top face above the bearing centre, m."""
         return self.outer_ring_outer_radius + self.adapter_height
 
+    def spall_profile(self) -> SpallProfile | None:
+        """The spall's cross-section (angles from +x), None without a defect. On the
+        outer raceway the rollers move counter-clockwise, so they meet the edge at the
+        smaller angle first; on the inner raceway (in the inner ring's frame, which turns
+        faster than the cage) the one at the larger angle."""
+        if not self.has_defect:
+            return None
+        outer = self.defect_race == "outer"
+        radius = self.outer_raceway_radius if outer else self.inner_raceway_radius
+        span = self.defect_length / radius
+        start = polar_from_top(self.defect_angle) - 0.5 * span
+        entry, exit_ = self.defect_entry_slope, self.defect_exit_slope
+        return SpallProfile(
+            radius,
+            start,
+            start + span,
+            self.defect_depth,
+            outward=outer,
+            start_slope=entry if outer else exit_,
+            end_slope=exit_ if outer else entry,
+            edge_radius=self.defect_edge_radius,
+            side_names=("entry", "exit") if outer else ("exit", "entry"),
+        )
+
     def roller_angles(self) -> list[float]:
         """Angle of every roller centre from +x, rad, roller 0 first, counter-clockwise."""
         step = 2 * math.pi / self.n_rollers
@@ -199,6 +234,9 @@ def spec_from_case(case) -> BearingMeshSpec:
         defect_angle=d.angle,
         defect_length=d.length,
         defect_depth=d.depth,
+        defect_entry_slope=d.entry_slope,
+        defect_exit_slope=d.exit_slope,
+        defect_edge_radius=d.edge_radius,
         surface_size=m.surface_size,
         max_size=m.max_size,
         growth=m.growth,

@@ -27,6 +27,16 @@ def _save(fig, path: Path) -> Path:
     return Path(path)
 
 
+def _profile_text(spall: Spall) -> str:
+    """The walls and edges of a spall that is not the rectangular notch, for titles."""
+    if spall.rectangular:
+        return ""
+    text = f", walls {np.degrees(spall.entry_slope):.3g}/{np.degrees(spall.exit_slope):.3g} deg"
+    if spall.edge_radius > 0:
+        text += f", edges rounded {spall.edge_radius * 1e3:.3g} mm"
+    return text
+
+
 def _bars(ax, dist: LoadDistribution, index: int, title: str) -> None:
     angles = np.degrees(dist.roller_angle[index])
     order = np.argsort(angles)
@@ -141,7 +151,7 @@ def plot_defect_passage(
     ax.legend(loc="upper left", fontsize=8, ncol=2)
     ax.set_title(
         f"Roller 0 through the spall ({np.degrees(spall.exit - spall.entry):.2f} deg, "
-        f"{spall.depth * 1e3:g} mm deep), W = {patch.load / 1e3:g} kN",
+        f"{spall.depth * 1e3:g} mm deep{_profile_text(spall)}), W = {patch.load / 1e3:g} kN",
         fontsize=11,
     )
     ax2.plot(angle, patch.outer_fy[:, 0] / 1e3, color=PATCH_COLOUR, label="roller 0, y")
