@@ -160,6 +160,15 @@ def advance(model, n: int, record_last: bool = False, mode: str | None = None,
     if n <= 0:
         return
     mode = choose_mode(model, mode)
+    if record_last and mode != "serial" and current_arch() == "cpu":
+        if not model.python_contributors:
+            # The recorded step (element energies) on the calling thread, as a serial
+            # run takes it: the compiler may group the terms of an element's energy
+            # differently in the team's or a parallel kernel (fast math), which changed
+            # energy_internal in its last bit between modes. One step per record.
+            advance(model, n - 1, False, mode, relax_damping)
+            advance(model, 1, True, "serial", relax_damping)
+            return
     model.steps_by_mode[mode] = model.steps_by_mode.get(mode, 0) + n
     model.freeze_contributors()
     relax = relax_damping is not None
