@@ -20,7 +20,9 @@ COMMANDS = {
     "mesh": "build the finite element mesh, write mesh.vtu, pictures and statistics",
     "analytic": "quasi-static load distribution with the spall, tables and figures",
     "modes": "natural frequencies and mode shapes of the finite element model",
-    "sweep": "run a load x speed matrix of cases",
+    "sweep": "run a grid of cases over any case keys (e.g. load x speed)",
+    "passages": "the distribution of each passage quantity over runs from spread start angles",
+    "convergence": "how each quantity changes over mesh or penalty levels, with its order",
     "post": "redo the checks, figures and report of a run folder (finished or not)",
     "compare": "a run's sensor acceleration against measured records, side by side",
 }

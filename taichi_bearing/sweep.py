@@ -1,192 +1,72 @@
-"""A load x speed matrix of bearing runs, on a local process pool or a Dask cluster.
+"""Running a study's cells on a local process pool or a Dask cluster.
 
-Each cell is the case with ``operating.load_kN`` and ``operating.speed_rpm`` overridden,
-run into its own run folder ``<sweep>/load_<L>kN_speed_<S>rpm/``
-(:mod:`taichi_bearing.run_folder`). The run folders are the record: a cell whose
-``summary.json`` says ``status: finished`` is not run again. :func:`run_cell` is the one
-task function, sent unchanged to either engine; it runs the case in a child Python process
-(``python -m taichi_bearing run``), so Taichi's global state and thread pool belong to that
-case alone and a crash of one case cannot take a pool or Dask worker down with it.
+Every study command (``sweep``, ``passages``, ``convergence``) makes its cells with
+:mod:`taichi_bearing.study_cells` (a grid over any case keys, each cell the case with one
+value of every varied key, in its own run folder named from its key=value pairs:
+``<out>/load_50kN_speed_500rpm/``; :mod:`taichi_bearing.run_folder`) and runs them here.
+The run folders are the record: a cell whose ``summary.json`` says ``status: finished`` is
+not run again. :func:`run_cell` is the one task function, sent unchanged to either engine;
+it runs the case in a child Python process (``python -m taichi_bearing run``), so Taichi's
+global state and thread pool belong to that case alone and a crash of one case cannot take
+a pool or Dask worker down with it.
 """
 
 from __future__ import annotations
 
-import math
 import os
 import subprocess
 import sys
 import uuid
-from collections.abc import Callable, Iterable, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from taichi_bearing.case import load_case
 from taichi_bearing.errors import InputError
 from taichi_bearing.run_folder import STATUS_FINISHED, read_summary
+from taichi_bearing.study_cells import (
+    LOAD_KEY,
+    SPEED_KEY,
+    Axis,
+    SweepCell,
+    cell_dir_name,
+    column_labels,
+    make_cells,
+    numeric_axis,
+    parse_values,
+    parse_vary,
+)
 
 __all__ = [
+    "LOAD_KEY",
+    "SPEED_KEY",
+    "Axis",
+    "CellResult",
     "SweepCell",
     "cell_dir_name",
+    "column_labels",
     "is_finished",
     "local_threads",
     "make_cells",
+    "numeric_axis",
     "parse_values",
+    "parse_vary",
     "run_cell",
     "run_sweep",
 ]
 
 
-@dataclass(frozen=True)
-class SweepCell:
-    """One case of the matrix: what :func:`run_cell` needs, as plain picklable data.
-
-    Attributes
-    ----------
-    case_path : str
-        Absolute path of the case file (the workers must see the same file system).
-    load_kN, speed_rpm : float
-    out_dir : str
-        Absolute path of the cell's run folder.
-    overrides : tuple of str
-        ``key=value`` overrides, the sweep's own ``--set`` ones first, then load and speed.
-    threads : int or None
-        Taichi CPU threads; ``None``: decided where the task runs (see :func:`run_cell`).
-    post : bool
-        Make the run's figures and report.
-    """
-
-    case_path: str
-    load_kN: float
-    speed_rpm: float
-    out_dir: str
-    overrides: tuple[str, ...] = ()
-    threads: int | None = None
-    post: bool = True
-
-    @property
-    def name(self) -> str:
-        return Path(self.out_dir).name
-
-
 @dataclass
 class CellResult:
-    """What a task reports back: status, error line and wall time of one cell."""
+    """What a task reports back: the cell's values, status, error line and wall time."""
 
     name: str
-    load_kN: float
-    speed_rpm: float
+    values: Mapping[str, object]
     out_dir: str
     status: str
     error: str = ""
     wall_s: float = 0.0
     ran: bool = False
     extra: dict = field(default_factory=dict)
-
-
-def parse_values(text: str, option: str) -> list[float]:
-    """``"25,50,80"`` -> ``[25.0, 50.0, 80.0]`` (positive, distinct, kept in order).
-
-    Raises
-    ------
-    InputError
-        Naming ``option`` on an empty list, a non-number, a value <= 0 or a repeat.
-    """
-    parts = [p.strip() for p in str(text).split(",")]
-    if not parts or any(p == "" for p in parts):
-        raise InputError(f"{option}: expected comma-separated numbers, got {text!r}")
-    values = []
-    for p in parts:
-        try:
-            v = float(p)
-        except ValueError:
-            raise InputError(f"{option}: {p!r} is not a number") from None
-        if not (math.isfinite(v) and v > 0):
-            raise InputError(f"{option}: values must be positive, got {p}")
-        if v in values:
-            raise InputError(f"{option}: {p} is given twice")
-        values.append(v)
-    return values
-
-
-def _num_text(v: float) -> str:
-    """25.0 -> "25", 2.5 -> "2p5" (folder-name safe)."""
-    return f"{v:g}".replace(".", "p").replace("+", "")
-
-
-def cell_dir_name(load_kN: float, speed_rpm: float) -> str:
-    """Run folder name of a cell, e.g. ``load_50kN_speed_500rpm``."""
-    return f"load_{_num_text(load_kN)}kN_speed_{_num_text(speed_rpm)}rpm"
-
-
-def _duration_overrides(case, speed_rpm: float) -> list[str]:
-    """Duration and intervals scaled by (case speed / cell speed): every cell covers the
-    same roller travel, so the same spall passages, whatever its speed."""
-    factor = case.operating.shaft_rpm / speed_rpm
-    run = case.run
-    # Case units are ms; the loaded Case holds seconds.
-    return [
-        f"run.duration_ms={run.duration * factor * 1e3!r}",
-        f"run.frame_interval_ms={run.frame_interval * factor * 1e3!r}",
-        f"run.checkpoint_interval_ms={run.checkpoint_interval * factor * 1e3!r}",
-    ]
-
-
-def make_cells(
-    case_path: str | os.PathLike,
-    loads_kN: Sequence[float],
-    speeds_rpm: Sequence[float],
-    out_dir: str | os.PathLike,
-    overrides: Iterable[str] = (),
-    *,
-    scale_duration: bool = True,
-    threads: int | None = None,
-    post: bool = True,
-) -> list[SweepCell]:
-    """The cells of the matrix, each one's case validated here (bad input fails early).
-
-    Parameters
-    ----------
-    case_path : path
-        Case file.
-    loads_kN, speeds_rpm : sequences of float
-        Radial loads and shaft speeds.
-    out_dir : path
-        Sweep folder; cell folders are made inside it.
-    overrides : iterable of str
-        ``--set`` overrides applied to every cell (before load and speed).
-    scale_duration : bool
-        Scale ``run.duration_ms`` (and the frame and checkpoint intervals) by case speed /
-        cell speed, so that every cell covers the same roller travel.
-    threads, post
-        Passed to every cell (see :class:`SweepCell`).
-
-    Raises
-    ------
-    InputError, CaseError
-        On an unreadable case, a bad override or a cell whose case is invalid.
-    """
-    case_path = Path(case_path).resolve()
-    base = tuple(overrides)
-    case = load_case(case_path, base)
-    out = Path(out_dir).resolve()
-    cells = []
-    for speed in speeds_rpm:
-        timing = _duration_overrides(case, speed) if scale_duration else []
-        for load in loads_kN:
-            ov = (*base, *timing, f"operating.load_kN={load!r}", f"operating.speed_rpm={speed!r}")
-            load_case(case_path, ov)  # validates the cell (e.g. intervals vs duration)
-            cells.append(
-                SweepCell(
-                    str(case_path),
-                    float(load),
-                    float(speed),
-                    str(out / cell_dir_name(load, speed)),
-                    ov,
-                    threads,
-                    post,
-                )
-            )
-    return cells
 
 
 def is_finished(run_dir: str | os.PathLike) -> bool:
@@ -222,6 +102,10 @@ def _last_line(text: str) -> str:
     return lines[-1] if lines else ""
 
 
+def _result(cell: SweepCell, status: str) -> CellResult:
+    return CellResult(cell.name, dict(cell.values), cell.out_dir, status)
+
+
 def run_cell(cell: SweepCell) -> CellResult:
     """Run one cell into its folder; never raises (a failure is in the result).
 
@@ -230,7 +114,7 @@ def run_cell(cell: SweepCell) -> CellResult:
     """
     import time
 
-    res = CellResult(cell.name, cell.load_kN, cell.speed_rpm, cell.out_dir, "failed")
+    res = _result(cell, "failed")
     cmd = [sys.executable, "-m", "taichi_bearing", "run", cell.case_path, "--out", cell.out_dir]
     for ov in cell.overrides:
         cmd += ["--set", ov]
@@ -256,10 +140,6 @@ def run_cell(cell: SweepCell) -> CellResult:
             f"exit status {proc.returncode}"
         )  # fmt: skip
     return res
-
-
-def _skipped(cell: SweepCell) -> CellResult:
-    return CellResult(cell.name, cell.load_kN, cell.speed_rpm, cell.out_dir, "finished")
 
 
 def _dask_threads(client) -> int:
@@ -312,7 +192,7 @@ def run_sweep(
     todo = []
     for c in cells:
         if is_finished(c.out_dir):
-            results[c.out_dir] = _skipped(c)
+            results[c.out_dir] = _result(c, "finished")
         else:
             todo.append(c)
     bar = tqdm(total=len(cells), initial=len(cells) - len(todo), unit="case",
@@ -385,6 +265,6 @@ def _outcome(fut, cell: SweepCell) -> CellResult:
     try:
         return fut.result()
     except Exception as exc:  # noqa: BLE001 - one lost case must not stop the sweep
-        r = CellResult(cell.name, cell.load_kN, cell.speed_rpm, cell.out_dir, "failed")
+        r = _result(cell, "failed")
         r.error = f"{type(exc).__name__}: {exc}"
         return r

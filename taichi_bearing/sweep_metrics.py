@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import math
 import os
+from collections.abc import Sequence
 
 import numpy as np
 
@@ -24,8 +25,9 @@ from taichi_bearing.run_folder import (
     roller_force_column,
     sensor_acceleration,
 )
+from taichi_bearing.sweep import CellResult, column_labels
 
-__all__ = ["METRICS", "cell_metrics", "envelope_level_at"]
+__all__ = ["METRICS", "cell_metrics", "envelope_level_at", "summary_rows"]
 
 # Passage window: from this long before entry to this long after re-stressing (s); the
 # re-stressing window starts at the first impact on the exit edge and lasts this long or
@@ -134,19 +136,16 @@ def cell_metrics(run_dir: str | os.PathLike) -> dict[str, float]:
     return m
 
 
-def summary_rows(results) -> list[dict]:
-    """One row per cell: load, speed, status, error, wall time and the metrics (NaN for a
-    cell that did not finish or whose folder cannot be read)."""
+def summary_rows(results: Sequence[CellResult]) -> list[dict]:
+    """One row per cell: a column per varied key (:func:`taichi_bearing.sweep.column_labels`),
+    status, run folder, error and the metrics (NaN for a cell that did not finish or whose
+    folder cannot be read)."""
+    labels = column_labels(results[0].values) if results else {}
     rows = []
     for r in results:
-        row = {
-            "load_kN": r.load_kN,
-            "speed_rpm": r.speed_rpm,
-            "status": r.status,
-            "run_dir": os.path.basename(r.out_dir),
-            "ran": bool(r.ran),
-            "error": r.error,
-        }
+        row: dict = {labels[k]: v for k, v in r.values.items()}
+        row.update(status=r.status, run_dir=os.path.basename(r.out_dir), ran=bool(r.ran),
+                   error=r.error)  # fmt: skip
         values: dict[str, float] = dict.fromkeys(
             ("bpfo_hz", "periods", "n_passages", *METRICS), math.nan
         )

@@ -1,8 +1,10 @@
-"""The load x speed sweep: process pool and Dask cluster agree, reruns skip finished cases,
-a failing case is reported while the others finish, bad arguments exit 2.
+"""The sweep: process pool and Dask cluster agree, reruns skip finished cases, a failing
+case is reported while the others finish, bad arguments exit 2; any case key varies
+(``--vary``), ``--load-kN``/``--speed-rpm`` are its shorthands.
 
 Cells: the coarse validation case, 0.1 ms of transient (the preload dominates) with a
-loose preload tolerance and no frames or per-run report; 2 loads x 2 speeds.
+loose preload tolerance and no frames or per-run report; 2 loads x 2 speeds; one thread
+per case, one case at a time.
 """
 
 from __future__ import annotations
@@ -14,10 +16,26 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 import pytest
+import yaml
 
 from diagnostics.envelope import envelope_spectrum
 from taichi_bearing.__main__ import main as cli
-from taichi_bearing.sweep import cell_dir_name, local_threads, make_cells, parse_values, run_sweep
+from taichi_bearing.case import case_to_dict, load_case
+from taichi_bearing.errors import InputError
+from taichi_bearing.post.sweep_figures import write_sweep_outputs
+from taichi_bearing.sweep import (
+    LOAD_KEY,
+    SPEED_KEY,
+    Axis,
+    cell_dir_name,
+    column_labels,
+    local_threads,
+    make_cells,
+    parse_values,
+    parse_vary,
+    run_sweep,
+)
+from taichi_bearing.sweep_metrics import METRICS as CELL_METRICS
 from taichi_bearing.sweep_metrics import envelope_level_at, summary_rows
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -35,11 +53,18 @@ SETS = (
 METRICS = ("max_outer_fn_N", "max_inner_fn_N", "accel_peak")
 
 
-def _sweep_argv(out: Path, *extra: str) -> list[str]:
-    argv = ["sweep", str(CASE), "--load-kN", LOADS, "--speed-rpm", SPEEDS, "--out", str(out)]
+def _sweep_argv(out: Path, *extra: str, axes=("--load-kN", LOADS, "--speed-rpm", SPEEDS)):
+    argv = ["sweep", str(CASE), *axes, "--out", str(out)]
     for s in SETS:
         argv += ["--set", s]
-    return [*argv, "--no-post", "--quiet", *extra]
+    return [*argv, "--no-post", "--quiet", "--threads", "1", *extra]
+
+
+def _load_speed_axes() -> list[Axis]:
+    return [
+        Axis(LOAD_KEY, tuple(parse_values(LOADS, "l")), "--load-kN"),
+        Axis(SPEED_KEY, tuple(parse_values(SPEEDS, "s")), "--speed-rpm"),
+    ]
 
 
 def _mtimes(out: Path) -> dict[str, int]:
@@ -49,7 +74,7 @@ def _mtimes(out: Path) -> dict[str, int]:
 @pytest.fixture(scope="module")
 def pool_sweep(tmp_path_factory):
     out = tmp_path_factory.mktemp("pool")
-    rc = cli(_sweep_argv(out, "--workers", "2"))
+    rc = cli(_sweep_argv(out, "--workers", "1"))
     return out, rc
 
 
@@ -81,7 +106,7 @@ def test_rerun_skips_finished_cells(pool_sweep):
     out, _ = pool_sweep
     before = _mtimes(out)
     assert len(before) == 4
-    assert cli(_sweep_argv(out, "--workers", "2")) == 0
+    assert cli(_sweep_argv(out, "--workers", "1")) == 0
     assert _mtimes(out) == before  # no run folder was written again
     df = pd.read_csv(out / "sweep_summary.csv")
     assert not df["ran"].any()
@@ -94,13 +119,12 @@ def test_dask_cluster_matches_pool_and_reports_a_failed_cell(pool_sweep, tmp_pat
     out = tmp_path / "dask"
     out.mkdir()
     # an injected failure: a plain file where one cell's run folder must go
-    blocked = cell_dir_name(40.0, 900.0)
+    blocked = cell_dir_name({LOAD_KEY: 40.0, SPEED_KEY: 900.0})
     (out / blocked).write_text("not a run folder\n")
-    cells = make_cells(CASE, parse_values(LOADS, "l"), parse_values(SPEEDS, "s"), out, SETS,
-                       post=False)  # fmt: skip
+    cells = make_cells(CASE, _load_speed_axes(), out, SETS, threads=1, post=False)
     with (
         distributed.LocalCluster(
-            n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None
+            n_workers=1, threads_per_worker=1, processes=True, dashboard_address=None
         ) as cluster,
         distributed.Client(cluster) as client,
     ):
@@ -160,3 +184,132 @@ def test_threads_per_worker():
     assert local_threads(2, cores=16) == 8
     assert local_threads(3, cores=16) == 5
     assert local_threads(32, cores=16) == 1
+
+
+# ------------------------------------------------------------------ any-key sweeps
+
+
+def test_vary_reads_values_as_yaml():
+    assert parse_vary("contact.smoothing=true,false").values == (True, False)
+    assert parse_vary("contact.penalty_method=segment,soft").values == ("segment", "soft")
+    # YAML 1.1 reads 1e-1 as a string; a study means the number
+    assert parse_vary("mesh.surface_size_mm=1, 0.5,1e-1").values == (1, 0.5, 0.1)
+    axis = parse_vary("run.first_roller_angle_deg=-4.25,-4")
+    assert axis.key == "run.first_roller_angle_deg" and axis.values == (-4.25, -4)
+
+
+@pytest.mark.parametrize(
+    "text, says",
+    [
+        ("mesh.surface_size_mm", "expected KEY=v1,v2"),
+        ("=1,2", "expected KEY=v1,v2"),
+        ("mesh.surface_size_mm=1,,2", "comma-separated"),
+        ("mesh.surface_size_mm=1,1.0", "given twice"),
+        ("mesh.surface_size_mm=[1", "not a YAML value"),
+    ],
+)
+def test_vary_refuses_malformed_values(text, says):
+    with pytest.raises(InputError, match=says):
+        parse_vary(text)
+
+
+def test_cells_are_named_from_their_key_value_pairs():
+    # today's load x speed names, unchanged, in whichever order the keys are varied
+    assert cell_dir_name({LOAD_KEY: 40.0, SPEED_KEY: 900.0}) == "load_40kN_speed_900rpm"
+    assert cell_dir_name({SPEED_KEY: 900.0, LOAD_KEY: 40.0}) == "load_40kN_speed_900rpm"
+    assert cell_dir_name({"contact.penalty_scale": 0.3}) == "penalty_scale_0p3"
+    values = {"mesh.surface_size_mm": 0.125, "run.first_roller_angle_deg": -4.25}
+    assert cell_dir_name(values) == "surface_size_0p125mm_first_roller_angle_-4p25deg"
+    assert cell_dir_name({"contact.smoothing": False}) == "smoothing_false"
+    # two keys of one name keep their sections apart, in names and in columns
+    both = {"run.max_steps": 10, "preload.max_steps": 5}
+    assert cell_dir_name(both) == "preload_max_steps_5_run_max_steps_10"  # schema order
+    assert list(column_labels(both).values()) == ["run_max_steps", "preload_max_steps"]
+
+
+def test_shorthands_make_the_cells_of_vary(tmp_path):
+    vary = [parse_vary(f"{LOAD_KEY}={LOADS}"), parse_vary(f"{SPEED_KEY}={SPEEDS}")]
+    a = make_cells(CASE, _load_speed_axes(), tmp_path, SETS)
+    b = make_cells(CASE, vary, tmp_path, SETS)
+    assert sorted(c.name for c in a) == sorted(c.name for c in b)
+    by_name = {c.name: c for c in b}
+    for c in a:  # the same case in each cell (20 and 20.0 are one load)
+        same = case_to_dict(load_case(CASE, by_name[c.name].overrides))
+        assert case_to_dict(load_case(CASE, c.overrides)) == same
+    # the duration scales with the speed: the 900 rpm cells run 1000/900 of the case's
+    c900 = next(c for c in a if c.values[SPEED_KEY] == 900.0)
+    assert "run.duration_ms=0.1111111111111111" in c900.overrides
+    fixed = make_cells(CASE, vary, tmp_path, SETS, scale_duration=False)
+    assert not any(o.startswith("run.duration_ms=0.11") for c in fixed for o in c.overrides)
+
+
+def test_load_speed_vary_reuses_the_shorthand_cells(pool_sweep):
+    out, _ = pool_sweep
+    before = _mtimes(out)
+    axes = ("--vary", f"{SPEED_KEY}={SPEEDS}", "--vary", f"{LOAD_KEY}={LOADS}")
+    assert cli(_sweep_argv(out, "--workers", "1", axes=axes)) == 0
+    assert _mtimes(out) == before  # the same folders: nothing ran again
+    df = pd.read_csv(out / "sweep_summary.csv")
+    assert {"load_kN", "speed_rpm"} <= set(df.columns) and not df["ran"].any()
+    assert (out / "sweep_increase.csv").is_file()  # still the load x speed outputs
+
+
+def _vary_argv(tmp_path, *vary: str) -> list[str]:
+    return ["sweep", str(CASE), *vary, "--out", str(tmp_path / "s")]
+
+
+@pytest.mark.parametrize(
+    "vary, words",
+    [
+        (["--vary", "operating.nonsense=1,2"], ["--vary operating.nonsense=1,2", "unknown key"]),
+        (["--vary", "mesh.surface_size_mm=1,abc"], ["--vary mesh.surface_size_mm=1,abc",
+                                                    "mesh.surface_size_mm"]),
+        (["--vary", "contact.penalty_scale=0.1,-1"], ["contact.penalty_scale"]),
+        (["--vary", "contact.penalty_scale=0.1", "--vary", "contact.penalty_scale=0.2"],
+         ["varied twice"]),
+        (["--load-kN", "20", "--vary", "operating.load_kN=30"], ["varied twice"]),
+        ([], ["--vary", "nothing to vary"]),
+    ],
+)  # fmt: skip
+def test_bad_vary_one_line_exit_2_nothing_written(tmp_path, capsys, vary, words):
+    assert cli(_vary_argv(tmp_path, *vary)) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and all(w in err[0] for w in words), err
+    assert not (tmp_path / "s").exists()
+
+
+def test_any_key_sweep_runs_its_own_value(tmp_path):
+    out = tmp_path / "penalty"
+    argv = _sweep_argv(out, "--workers", "1", axes=("--vary", "contact.penalty_scale=0.2"))
+    assert cli(argv) == 0
+    run = out / "penalty_scale_0p2"
+    case = yaml.safe_load((run / "case.yaml").read_text())
+    assert case["contact"]["penalty_scale"] == 0.2
+    df = pd.read_csv(out / "sweep_summary.csv")
+    assert list(df["penalty_scale"]) == [0.2] and list(df["status"]) == ["finished"]
+    assert df.loc[0, "max_outer_fn_N"] > 0
+    report = (out / "sweep_report.md").read_text()
+    assert report.startswith("# Sweep over penalty_scale")
+    assert (out / "figures" / "sweep_outer_forces.png").stat().st_size > 0
+    assert not (out / "sweep_increase.csv").exists()  # no load x speed tables
+
+
+def test_grid_outputs_draw_each_metric_against_the_first_key(tmp_path):
+    rows = []
+    for method in ("segment", "soft"):
+        for scale in (0.1, 0.3, 1.0):
+            row = {"penalty_method": method, "penalty_scale": scale, "status": "finished",
+                   "run_dir": f"{method}_{scale}", "ran": True, "error": "",
+                   "n_passages": 1}  # fmt: skip
+            row.update({k: scale * (2.0 if method == "soft" else 1.0) for k in CELL_METRICS})
+            rows.append(row)
+    paths = write_sweep_outputs(rows, tmp_path, ["penalty_scale", "penalty_method"])
+    df = pd.read_csv(paths["summary"])
+    assert list(df.columns[:2]) == ["penalty_method", "penalty_scale"]
+    assert list(df["penalty_scale"]) == [0.1, 0.1, 0.3, 0.3, 1.0, 1.0]  # sorted by the axes
+    report = paths["report"].read_text()
+    assert "# Sweep over penalty_scale x penalty_method" in report
+    assert "one line per penalty_method" in report
+    for stem in ("envelope_bpfo", "outer_forces", "inner_forces"):
+        assert (tmp_path / "figures" / f"sweep_{stem}.png").stat().st_size > 0
+    assert "increase" not in paths

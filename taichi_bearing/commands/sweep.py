@@ -1,14 +1,21 @@
-"""`python -m taichi_bearing sweep CASE.yaml --load-kN 25,50,80 --speed-rpm 300,500,800`.
+"""`python -m taichi_bearing sweep CASE.yaml --vary KEY=v1,v2,... [--vary KEY2=...]`.
 
-Runs the load x speed matrix (:mod:`taichi_bearing.sweep`) on a local process pool or,
-with ``--scheduler ADDRESS``, on a Dask distributed cluster; then writes
-``sweep_summary.csv``, the increase tables, figures and ``sweep_report.md``. Exit status:
-0 all cells finished, 1 some failed (each reported), 2 bad input.
+Runs a grid of cases over any case keys (:mod:`taichi_bearing.study_cells`;
+``--load-kN 25,50,80 --speed-rpm 300,500,800`` are the shorthands of
+``--vary operating.load_kN=...`` and ``--vary operating.speed_rpm=...``) on a local
+process pool or, with ``--scheduler ADDRESS``, on a Dask distributed cluster; then writes
+``sweep_summary.csv``, figures and ``sweep_report.md`` (a load x speed sweep also the
+increase tables). Exit status: 0 all cells finished, 1 some failed (each reported), 2 bad
+input.
+
+The pool arguments and :func:`run_study` are shared by the ``passages`` and
+``convergence`` commands: one cell engine for every study.
 """
 
 from __future__ import annotations
 
 import argparse
+import shlex
 import sys
 from pathlib import Path
 
@@ -16,12 +23,9 @@ from taichi_bearing.commands.common import add_case_arguments, check_empty, outp
 from taichi_bearing.errors import InputError
 
 
-def add_arguments(parser: argparse.ArgumentParser) -> None:
-    add_case_arguments(parser)
-    parser.add_argument("--load-kN", dest="loads", required=True, metavar="L1,L2,...",
-                        help="radial loads in kN, comma-separated")  # fmt: skip
-    parser.add_argument("--speed-rpm", dest="speeds", required=True, metavar="S1,S2,...",
-                        help="shaft speeds in rpm, comma-separated")  # fmt: skip
+def add_pool_arguments(parser: argparse.ArgumentParser) -> None:
+    """``--workers``, ``--scheduler``, ``--threads``, ``--no-post``, ``--quiet``: how a
+    study runs its cells."""
     parser.add_argument("--workers", type=int, default=None, metavar="N",
                         help="local process pool size (default: all cores); each case "
                         "gets max(1, cores // N) Taichi threads")  # fmt: skip
@@ -37,48 +41,116 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         help="Taichi threads per case (default: cores / concurrent cases)",
     )
     parser.add_argument(
+        "--no-post",
+        action="store_true",
+        help="no per-run figures and report (the study's own outputs are made)",
+    )
+    parser.add_argument("--quiet", action="store_true", help="no progress bar")
+
+
+def add_arguments(parser: argparse.ArgumentParser) -> None:
+    add_case_arguments(parser)
+    parser.add_argument("--vary", action="append", default=[], metavar="KEY=V1,V2,...",
+                        help="a case key and its values (read as YAML like --set), e.g. "
+                        "--vary mesh.surface_size_mm=1,0.5; repeatable: a grid over "
+                        "every combination")  # fmt: skip
+    parser.add_argument("--load-kN", dest="loads", default=None, metavar="L1,L2,...",
+                        help="radial loads in kN, comma-separated: --vary "
+                        "operating.load_kN=...")  # fmt: skip
+    parser.add_argument("--speed-rpm", dest="speeds", default=None, metavar="S1,S2,...",
+                        help="shaft speeds in rpm, comma-separated: --vary "
+                        "operating.speed_rpm=...")  # fmt: skip
+    add_pool_arguments(parser)
+    parser.add_argument(
         "--fixed-duration",
         action="store_true",
         help="keep run.duration_ms at every speed (default: scale it by "
         "case speed / cell speed so every cell covers the same travel)",
     )
-    parser.add_argument(
-        "--no-post",
-        action="store_true",
-        help="no per-run figures and report (the sweep outputs are made)",
-    )
-    parser.add_argument("--quiet", action="store_true", help="no progress bar")
 
 
-def main(args: argparse.Namespace) -> int:
-    from taichi_bearing.sweep import make_cells, parse_values, run_sweep
-
-    loads = parse_values(args.loads, "--load-kN")
-    speeds = parse_values(args.speeds, "--speed-rpm")
+def check_pool_arguments(args: argparse.Namespace) -> None:
+    """Refuse pool arguments that cannot be used (one line naming the option)."""
     if args.workers is not None and args.workers < 1:
         raise InputError(f"--workers: must be >= 1, got {args.workers}")
     if args.threads is not None and args.threads < 1:
         raise InputError(f"--threads: must be >= 1, got {args.threads}")
     if args.scheduler is not None and args.workers is not None:
         raise InputError("--workers: not used with --scheduler (the cluster has its workers)")
+
+
+def study_folder(args: argparse.Namespace, prefix: str) -> Path:
+    """``--out``, or ``runs/<prefix>_<case file stem>`` (not created here)."""
     if args.out is None:
-        out = Path("runs") / f"sweep_{Path(args.case).stem}"
-    else:
-        out = check_empty(args.out, "--out")  # Path("") would resolve to here
-    cells = make_cells(args.case, loads, speeds, out, args.overrides,
-                       scale_duration=not args.fixed_duration, threads=args.threads,
-                       post=not args.no_post)  # fmt: skip
-    output_folder(out)  # once the cases are valid: a refused sweep makes no folder
+        return Path("runs") / f"{prefix}_{Path(args.case).stem}"
+    return check_empty(args.out, "--out")  # Path("") would resolve to here
+
+
+def run_study(args: argparse.Namespace, axes: list, out: Path, *, scale_duration: bool = False):
+    """Make the cells of ``axes`` (every case validated), create ``out``, run the cells
+    not yet finished on the pool or cluster of ``args``; returns (cells, results).
+
+    Nothing is written before every cell's case is known to be valid.
+    """
+    from taichi_bearing.sweep import make_cells, run_sweep
+
+    check_pool_arguments(args)
+    cells = make_cells(args.case, axes, out, args.overrides, scale_duration=scale_duration,
+                       threads=args.threads, post=not args.no_post)  # fmt: skip
+    output_folder(out)  # once the cases are valid: a refused study makes no folder
     results = run_sweep(cells, workers=args.workers, scheduler=args.scheduler,
                         progress=not args.quiet)  # fmt: skip
+    return cells, results
+
+
+def command_text(name: str, args: argparse.Namespace, options: list[str]) -> str:
+    """The command line of a study, for its report: the case, ``options``, the ``--set``
+    overrides and ``--out`` (how it ran, pool or cluster, does not change the results)."""
+    parts = [name, args.case, *options]
+    for ov in args.overrides:
+        parts += ["--set", ov]
+    if args.out is not None:
+        parts += ["--out", args.out]
+    return "python -m taichi_bearing " + shlex.join(parts)
+
+
+def report_failures(results) -> list:
+    """Print each failed cell on stderr; returns the failed results."""
+    failed = [r for r in results if r.status != "finished"]
+    for r in failed:
+        print(f"failed: {r.name}: {r.error}", file=sys.stderr)
+    return failed
+
+
+def _axes(args: argparse.Namespace) -> list:
+    from taichi_bearing.sweep import LOAD_KEY, SPEED_KEY, Axis, parse_values, parse_vary
+
+    axes = []
+    if args.loads is not None:
+        axes.append(Axis(LOAD_KEY, tuple(parse_values(args.loads, "--load-kN")), "--load-kN"))
+    if args.speeds is not None:
+        values = tuple(parse_values(args.speeds, "--speed-rpm"))
+        axes.append(Axis(SPEED_KEY, values, "--speed-rpm"))
+    axes += [parse_vary(text) for text in args.vary]
+    if not axes:
+        raise InputError("--vary: nothing to vary (give --vary KEY=v1,v2,... or --load-kN "
+                         "and --speed-rpm)")  # fmt: skip
+    return axes
+
+
+def main(args: argparse.Namespace) -> int:
+    from taichi_bearing.sweep import column_labels
+
+    axes = _axes(args)
+    out = study_folder(args, "sweep")
+    _, results = run_study(args, axes, out, scale_duration=not args.fixed_duration)
     from taichi_bearing.post.sweep_figures import write_sweep_outputs
     from taichi_bearing.sweep_metrics import summary_rows
 
-    paths = write_sweep_outputs(summary_rows(results), out)
-    failed = [r for r in results if r.status != "finished"]
+    labels = list(column_labels(a.key for a in axes).values())
+    paths = write_sweep_outputs(summary_rows(results), out, labels)
+    failed = report_failures(results)
     ran = sum(r.ran for r in results)
-    for r in failed:
-        print(f"failed: {r.name}: {r.error}", file=sys.stderr)
     print(f"{len(results)} cases ({ran} run, {len(results) - ran} already finished, "
           f"{len(failed)} failed); {paths['summary']}, {paths['report']}")  # fmt: skip
     return 1 if failed else 0

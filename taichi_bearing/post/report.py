@@ -294,6 +294,9 @@ def _passages(summary: dict, figs: dict, run_dir: Path) -> list:
         head = ["roller", "entry (ms)", "first touch of the exit edge (ms)", "exit (ms)",
                 "entry to exit (ms)", "impulses at exit", "exit force peak / F0"]  # fmt: skip
         out.append(Table(head, rows))
+        from taichi_bearing.post.passages_report import distribution_blocks
+
+        out += distribution_blocks(summary, len(ev))  # the finding is the distribution
         exits = [e["exit_time_s"] for e in ev if math.isfinite(e["exit_time_s"])]
         if len(exits) > 1 and bpfo:
             period = 1.0 / float(bpfo)

@@ -1,14 +1,18 @@
-"""Sweep outputs: ``sweep_summary.csv``, percentage-increase tables, trend figures and
+"""Sweep outputs: ``sweep_summary.csv`` (a column per varied key), figures and
 ``sweep_report.md``, all computed from the per-cell rows (nothing typed in).
 
-Increase tables: for each quantity, ``100 (q / q_ref - 1)`` with ``q_ref`` the same
-quantity at the lowest load (same speed) or at the lowest speed (same load).
+A load x speed sweep (the varied keys are ``operating.load_kN`` and
+``operating.speed_rpm``) also gets percentage-increase tables and trend sentences: for
+each quantity, ``100 (q / q_ref - 1)`` with ``q_ref`` the same quantity at the lowest load
+(same speed) or at the lowest speed (same load). Any other grid gets each quantity against
+its first varied key, one line per combination of the others.
 """
 
 from __future__ import annotations
 
 import math
 import os
+from collections.abc import Sequence
 from pathlib import Path
 
 import numpy as np
@@ -18,7 +22,7 @@ from diagnostics.files import atomic_path
 from taichi_bearing.passages import EXIT_BURST_S
 from taichi_bearing.sweep_metrics import METRICS, WINDOW_S
 
-__all__ = ["increase_table", "trend_sentence", "write_sweep_outputs"]
+__all__ = ["LOAD_SPEED", "increase_table", "trend_sentence", "write_sweep_outputs"]
 
 # The quantities the study's finding is about, tested for a trend in the report.
 TREND_KEYS = (
@@ -30,6 +34,13 @@ TREND_KEYS = (
     "restress_peak_N",
 )
 AXES = {"load_kN": ("load", "kN"), "speed_rpm": ("speed", "rpm")}
+LOAD_SPEED = tuple(AXES)  # the columns of operating.load_kN and operating.speed_rpm
+# figure file stem -> the quantities drawn in it
+GROUPS = {
+    "envelope_bpfo": ("env_bpfo",),
+    "outer_forces": ("outer_peak_N", "outer_env_max_N", "restress_peak_N"),
+    "inner_forces": ("inner_peak_N", "inner_env_max_N"),
+}
 
 
 def _write_text(path: Path, text: str) -> None:
@@ -123,14 +134,51 @@ def trend_sentence(df: pd.DataFrame, key: str, axis: str) -> tuple[str, bool | N
     return head + ": " + "; ".join(parts) + ".", all(verdicts)
 
 
-def _plot_vs(df: pd.DataFrame, key: str, axis: str, ax) -> None:
-    other = "speed_rpm" if axis == "load_kN" else "load_kN"
-    for o, g in df.sort_values(axis).groupby(other):
-        ax.plot(g[axis], g[key], "o-", label=f"{o:g} {AXES[other][1]}")
-    ax.set_xlabel(f"{AXES[axis][0]} ({AXES[axis][1]})")
+def _legend(column: str, value) -> str:
+    if column in AXES and isinstance(value, (int, float)):
+        return f"{value:g} {AXES[column][1]}"
+    return f"{column}={value}"
+
+
+def _plot_lines(df: pd.DataFrame, key: str, axis: str, others: Sequence[str], ax) -> None:
+    """``key`` against ``axis``, one line per combination of the ``others`` columns (a
+    non-numeric axis is drawn at evenly spaced ticks)."""
+    numeric = pd.api.types.is_numeric_dtype(df[axis]) and not pd.api.types.is_bool_dtype(df[axis])
+    ticks = sorted(df[axis].unique(), key=str) if not numeric else None
+    groups = df.groupby(list(others), sort=True) if others else [((), df)]
+    for combo, g in groups:
+        combo = combo if isinstance(combo, tuple) else (combo,)
+        g = g.sort_values(axis, key=None if numeric else (lambda c: c.astype(str)))
+        x = g[axis] if numeric else [ticks.index(v) for v in g[axis]]
+        label = ", ".join(_legend(o, v) for o, v in zip(others, combo, strict=True))
+        ax.plot(x, g[key], "o-", label=label or None)
+    if ticks is not None:
+        ax.set_xticks(range(len(ticks)), [str(t) for t in ticks])
+    name, unit = AXES.get(axis, (axis, ""))
+    ax.set_xlabel(f"{name} ({unit})" if unit else name)
     ax.set_ylabel(f"{key} ({METRICS[key][1]})")
     ax.grid(True, alpha=0.3)
-    ax.legend(fontsize=7)
+    if others:
+        ax.legend(fontsize=7)
+
+
+def _group_figures(df: pd.DataFrame, panels: Sequence[tuple[str, list[str]]], fig_dir: Path,
+                   plt) -> list[Path]:  # fmt: skip
+    """One figure per :data:`GROUPS` entry: a row per quantity, a column per panel (the
+    column drawn along x, the columns that make its lines)."""
+    fig_dir.mkdir(parents=True, exist_ok=True)
+    written = []
+    width = 4.5 * len(panels) if len(panels) > 1 else 6.5
+    for stem, keys in GROUPS.items():
+        fig, axes = plt.subplots(len(keys), len(panels), figsize=(width, 3.0 * len(keys)),
+                                 squeeze=False)  # fmt: skip
+        for i, key in enumerate(keys):
+            for k, (axis, others) in enumerate(panels):
+                _plot_lines(df, key, axis, others, axes[i][k])
+                axes[i][k].set_title(f"{METRICS[key][0]}", fontsize=8)
+        fig.tight_layout()
+        written.append(_save(fig, fig_dir / f"sweep_{stem}.png", plt))
+    return written
 
 
 def make_figures(df: pd.DataFrame, fig_dir: Path) -> list[Path]:
@@ -141,21 +189,8 @@ def make_figures(df: pd.DataFrame, fig_dir: Path) -> list[Path]:
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    fig_dir.mkdir(parents=True, exist_ok=True)
-    written = []
-    groups = {
-        "envelope_bpfo": ("env_bpfo",),
-        "outer_forces": ("outer_peak_N", "outer_env_max_N", "restress_peak_N"),
-        "inner_forces": ("inner_peak_N", "inner_env_max_N"),
-    }
-    for stem, keys in groups.items():
-        fig, axes = plt.subplots(len(keys), 2, figsize=(9, 3.0 * len(keys)), squeeze=False)
-        for i, key in enumerate(keys):
-            for k, axis in enumerate(AXES):
-                _plot_vs(df, key, axis, axes[i][k])
-                axes[i][k].set_title(f"{METRICS[key][0]}", fontsize=8)
-        fig.tight_layout()
-        written.append(_save(fig, fig_dir / f"sweep_{stem}.png", plt))
+    panels = [("load_kN", ["speed_rpm"]), ("speed_rpm", ["load_kN"])]
+    written = _group_figures(df, panels, fig_dir, plt)
     # increase tables, one panel per reference axis
     fig, axes = plt.subplots(1, 2, figsize=(12, 0.5 + 0.35 * len(df) * len(TREND_KEYS) / 2))
     for ax, axis in zip(axes, AXES, strict=True):
@@ -255,18 +290,76 @@ def _report(df: pd.DataFrame, figures: list[Path], out: Path) -> str:
     return "\n".join(lines) + "\n"
 
 
-def write_sweep_outputs(rows: list[dict], out_dir: str | os.PathLike) -> dict[str, Path]:
-    """Write ``sweep_summary.csv``, ``sweep_increase.csv``, figures and ``sweep_report.md``.
+def make_grid_figures(df: pd.DataFrame, axes: Sequence[str], fig_dir: Path) -> list[Path]:
+    """Each quantity against the first varied column, one line per combination of the
+    others; returns the files written."""
+    import matplotlib
 
-    Returns the paths written, by name.
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    return _group_figures(df, [(axes[0], list(axes[1:]))], fig_dir, plt)
+
+
+def _grid_report(df: pd.DataFrame, axes: Sequence[str], figures: list[Path], out: Path) -> str:
+    lines = [f"# Sweep over {' x '.join(axes)}", ""]
+    n_fin = int((df["status"] == "finished").sum())
+    lines += [f"{len(df)} cells, {n_fin} finished, {len(df) - n_fin} failed.", ""]
+    lines += [
+        f"- FAILED {r.run_dir}: {r.error}" for r in df[df["status"] != "finished"].itertuples()
+    ]
+    lines += [
+        "",
+        "Quantities (each run's files; forces of the rollers in `summary.json` events):",
+        "",
+    ]
+    lines += [f"- `{k}`: {label} ({unit})" for k, (label, unit) in METRICS.items()]
+    lines += ["", "## Per-cell values", ""]
+    show = [*axes, "status", "n_passages", *TREND_KEYS, "static_outer_N"]
+    lines += [_markdown(df[show]), "", "## Figures", ""]
+    lines += [
+        f"Each quantity against {axes[0]}"
+        + (f", one line per {' and '.join(axes[1:])}." if len(axes) > 1 else "."),
+        "",
+    ]
+    lines += [f"![{p.stem}]({os.path.relpath(p, out)})" for p in figures]
+    return "\n".join(lines) + "\n"
+
+
+def write_sweep_outputs(
+    rows: list[dict], out_dir: str | os.PathLike, axes: Sequence[str] = LOAD_SPEED
+) -> dict[str, Path]:
+    """Write ``sweep_summary.csv``, figures and ``sweep_report.md`` (and, for a load x
+    speed sweep, ``sweep_increase.csv``).
+
+    Parameters
+    ----------
+    rows : list of dict
+        One per cell (:func:`taichi_bearing.sweep_metrics.summary_rows`).
+    out_dir : path
+    axes : sequence of str
+        The varied keys' columns, in the order of the grid.
+
+    Returns
+    -------
+    dict
+        The paths written, by name.
     """
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
-    df = pd.DataFrame(rows).sort_values(["load_kN", "speed_rpm"]).reset_index(drop=True)
-    paths = {"summary": out / "sweep_summary.csv", "increase": out / "sweep_increase.csv"}
+    axes = list(axes)
+    load_speed = sorted(axes) == sorted(LOAD_SPEED)
+    order = list(LOAD_SPEED) if load_speed else axes
+    df = pd.DataFrame(rows).sort_values(order).reset_index(drop=True)
+    paths = {"summary": out / "sweep_summary.csv"}
     _write_csv(paths["summary"], df)
-    _write_csv(paths["increase"], _increase_long(df))
-    figures = make_figures(df, out / "figures")
     paths["report"] = out / "sweep_report.md"
-    _write_text(paths["report"], _report(df, figures, out))
+    if load_speed:
+        paths["increase"] = out / "sweep_increase.csv"
+        _write_csv(paths["increase"], _increase_long(df))
+        figures = make_figures(df, out / "figures")
+        _write_text(paths["report"], _report(df, figures, out))
+    else:
+        figures = make_grid_figures(df, axes, out / "figures")
+        _write_text(paths["report"], _grid_report(df, axes, figures, out))
     return paths

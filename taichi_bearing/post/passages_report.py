@@ -1,0 +1,167 @@
+"""Outputs of ``python -m taichi_bearing passages``: ``passages.csv`` (one row per
+passage), ``runs.csv`` (one per run), a box and strip plot of every passage quantity and
+``passages_report.md`` / ``.html`` with the median and interquartile range of each."""
+
+from __future__ import annotations
+
+import os
+import textwrap
+from collections.abc import Sequence
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+
+from taichi_bearing.passage_study import QUANTITIES, QUANTITY, group_statistics
+from taichi_bearing.passages import PASSAGE_QUANTITIES
+from taichi_bearing.post.report import Heading, Image, Para, Table, fmt
+from taichi_bearing.post.study_report import (
+    distribution_cells,
+    failed_blocks,
+    save_figure,
+    write_csv,
+    write_report_files,
+)
+
+__all__ = ["distribution_blocks", "passages_figure", "statistics_table", "write_passages_outputs"]
+
+
+def passages_figure(passages: pd.DataFrame, path: Path, by: str = "run") -> Path:
+    """One panel per passage quantity: a box (median, quartiles, whiskers to 1.5 IQR) over
+    every passage, with each passage as a dot coloured by its ``by`` column."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    names = list(PASSAGE_QUANTITIES)
+    fig, axes = plt.subplots(1, len(names), figsize=(1.9 * len(names), 3.8), squeeze=False)
+    groups = list(dict.fromkeys(passages[by])) if len(passages) else []
+    colours = plt.get_cmap("viridis")(np.linspace(0, 0.9, max(1, len(groups))))
+    rng = np.random.default_rng(0)  # the same jitter on every redraw
+    for ax, name in zip(axes[0], names, strict=True):
+        q = QUANTITY[name]
+        v = pd.to_numeric(passages[name], errors="coerce").to_numpy(dtype=float) * q.scale
+        ok = np.isfinite(v)
+        if ok.any():
+            ax.boxplot(v[ok], widths=0.5, showfliers=False)
+        for colour, g in zip(colours, groups, strict=False):
+            sel = ok & (passages[by] == g).to_numpy()
+            ax.plot(1 + rng.uniform(-0.18, 0.18, sel.sum()), v[sel], "o", ms=4,
+                    color=colour, alpha=0.8)  # fmt: skip
+        ax.set_title("\n".join(textwrap.wrap(q.label, 22)), fontsize=7)
+        ax.set_ylabel(q.unit, fontsize=8)
+        ax.set_xticks([])
+        ax.tick_params(labelsize=7)
+        ax.grid(True, axis="y", alpha=0.3)
+    fig.suptitle(f"{int(len(passages))} passages; dots coloured by {by}", fontsize=9)
+    fig.tight_layout()
+    return save_figure(fig, path)
+
+
+def statistics_table(stats: dict, names: Sequence[str]) -> Table:
+    """Median, interquartile range and count of each quantity, in its display unit (a
+    name :data:`~taichi_bearing.passage_study.QUANTITY` does not know: as it is, SI)."""
+    rows = []
+    for n in names:
+        q = QUANTITY.get(n)
+        label, unit, scale = (q.label, q.unit, q.scale) if q else (n, "SI", 1.0)
+        rows.append([label, unit, *distribution_cells(stats[n], scale)])
+    return Table(["quantity", "unit", "median", "interquartile range", "n"], rows)
+
+
+def distribution_blocks(summary: dict, n_passages: int) -> list:
+    """The run report's blocks for ``passage_statistics`` of summary.json: each passage
+    quantity's median and interquartile range over the run's ``n_passages`` passages, set
+    beside the per-passage table so that no single passage reads as the finding."""
+    stats = summary.get("passage_statistics")
+    if not stats:
+        return []
+    more = "`python -m taichi_bearing passages` runs more"
+    if n_passages == 1:
+        text = (
+            "The one passage's quantities (summary.json passage_statistics): one sample of "
+            f"a chaotic bounce, not yet a distribution ({more})."
+        )
+    else:
+        text = (
+            f"Each passage quantity over the {n_passages} passages: median and "
+            "interquartile range (summary.json passage_statistics). One passage is one "
+            "sample of a chaotic bounce, so these, not one passage's value, are the run's "
+            f"finding; few passages give a wide range ({more})."
+        )
+    return [Para(text), statistics_table(stats, list(stats))]
+
+
+def _per_passage(passages: pd.DataFrame, angle: str | None) -> Table:
+    names = list(PASSAGE_QUANTITIES)
+    head = ["run", *([angle] if angle else []), "roller"]
+    head += [f"{QUANTITY[n].label} ({QUANTITY[n].unit})" for n in names]
+    rows = []
+    for p in passages.to_dict("records"):
+        cells = [str(p["run"]), *([fmt(p[angle])] if angle else []), fmt(p["roller"])]
+        cells += [fmt(None if pd.isna(p[n]) else float(p[n]) * QUANTITY[n].scale) for n in names]
+        rows.append(cells)
+    return Table(head, rows)
+
+
+def write_passages_outputs(
+    passages: pd.DataFrame,
+    runs: pd.DataFrame,
+    out: str | os.PathLike,
+    *,
+    title: str,
+    intro: str,
+    angle: str | None,
+    results: Sequence = (),
+    how: Sequence = (),
+) -> dict[str, Path]:
+    """Write ``passages.csv``, ``runs.csv``, ``figures/passages.png`` and
+    ``passages_report.md`` / ``.html`` into ``out``.
+
+    Parameters
+    ----------
+    passages, runs : DataFrame
+        :func:`taichi_bearing.passage_study.collect`.
+    out : path
+    title, intro : str
+        The report's heading and first paragraph (what was run).
+    angle : str or None
+        The column of the varied starting angle, shown per passage.
+    results : sequence of CellResult
+        The runs, to name those that did not finish.
+    how : sequence of blocks
+        The closing section (:func:`~taichi_bearing.post.study_report.how_made_blocks`).
+
+    Returns
+    -------
+    dict
+        The paths written, by name.
+    """
+    out = Path(out)
+    paths = {
+        "passages": write_csv(out / "passages.csv", passages),
+        "runs": write_csv(out / "runs.csv", runs),
+        "figure": passages_figure(passages, out / "figures" / "passages.png"),
+    }
+    stats = group_statistics(passages, runs)[None]
+    n_runs = int((runs["status"] == "finished").sum()) if len(runs) else 0
+    blocks: list = [Heading(title, 1), Para(intro), *failed_blocks(results)]
+    blocks.append(
+        Para(
+            f"{len(passages)} passages from {n_runs} finished runs. One passage is one "
+            "sample of a chaotic bounce (where the roller is in its radial flight when "
+            "the exit edge meets it), so the finding is each quantity's median and "
+            "interquartile range over the passages, never one passage's value."
+        )
+    )
+    blocks.append(statistics_table(stats, PASSAGE_QUANTITIES))
+    blocks.append(Image(paths["figure"], "Every passage quantity: box over the passages "
+                        "(median, quartiles), one dot per passage."))  # fmt: skip
+    run_names = [q.name for q in QUANTITIES if q.per == "run"]
+    blocks += [Heading("Per run", 2), Para("The preload and the run's spall size estimate, "
+               "over the finished runs (they differ only by where the rollers start):"),
+               statistics_table(stats, run_names)]  # fmt: skip
+    blocks += [Heading("Per passage", 2), _per_passage(passages, angle), *how]
+    paths["report"], paths["html"] = write_report_files(blocks, out / "passages_report.md")
+    return paths

@@ -1,0 +1,98 @@
+"""Pieces the study reports share (``passages``, ``convergence``): the Markdown and HTML
+files from one list of blocks (the run report's own renderers,
+:mod:`taichi_bearing.post.report`), a quantity's distribution as table cells, the study's
+tables as CSV, and how the study was made (its command and case)."""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping, Sequence
+from pathlib import Path
+
+import pandas as pd
+
+from diagnostics.files import atomic_path
+from taichi_bearing.post.report import Heading, Para, Table, fmt, to_html, to_markdown
+
+__all__ = [
+    "distribution_cells",
+    "failed_blocks",
+    "how_made_blocks",
+    "save_figure",
+    "write_csv",
+    "write_report_files",
+]
+
+
+def write_report_files(blocks: list, md_path: Path) -> tuple[Path, Path]:
+    """Write ``md_path`` and the same report as a self-contained ``.html`` beside it (each
+    to a temporary name, then renamed); returns both paths."""
+    md_path = Path(md_path)
+    html_path = md_path.with_suffix(".html")
+    with atomic_path(md_path) as tmp:
+        tmp.write_text(to_markdown(blocks, md_path.parent), encoding="utf-8")
+    with atomic_path(html_path) as tmp:
+        tmp.write_text(to_html(blocks), encoding="utf-8")
+    return md_path, html_path
+
+
+def write_csv(path: Path, df: pd.DataFrame) -> Path:
+    """``df`` as CSV, written to a temporary name and renamed."""
+    with atomic_path(path) as tmp:
+        df.to_csv(tmp, index=False)
+    return Path(path)
+
+
+def save_figure(fig, path: Path) -> Path:
+    """Save a matplotlib figure as PNG (temporary name, renamed) and close it."""
+    import matplotlib.pyplot as plt
+
+    with atomic_path(path) as tmp:
+        fig.savefig(tmp, dpi=110, format="png")
+    plt.close(fig)
+    return Path(path)
+
+
+def distribution_cells(stats: Mapping[str, float], scale: float = 1.0) -> list[str]:
+    """``median``, ``q25 to q75`` and ``n`` of :func:`~taichi_bearing.passages.passage_statistics`
+    as table cells, each value times ``scale``."""
+    n = int(stats.get("n") or 0)
+    if n == 0:
+        return ["-", "-", "0"]
+    med, q25, q75 = (scale * float(stats[k]) for k in ("median", "q25", "q75"))
+    iqr = f"{fmt(q25)} to {fmt(q75)}" if math.isfinite(q25) else "-"
+    return [fmt(med), iqr, str(n)]
+
+
+def failed_blocks(results: Sequence) -> list:
+    """A paragraph naming each cell that did not finish, with its error (none if all did)."""
+    failed = [r for r in results if r.status != "finished"]
+    if not failed:
+        return []
+    return [
+        Para(
+            "Runs that did not finish: " + "; ".join(f"`{r.name}`: {r.error}" for r in failed) + "."
+        )
+    ]
+
+
+def _flat(d: Mapping, prefix: str = "") -> list[tuple[str, object]]:
+    return [
+        item
+        for k, v in d.items()
+        for item in (_flat(v, f"{prefix}{k}.") if isinstance(v, Mapping) else [(f"{prefix}{k}", v)])
+    ]
+
+
+def how_made_blocks(command: str, case_path: str | Path, overrides: Sequence[str]) -> list:
+    """The section that closes a study report: the command that made it and the case it
+    ran (every key, as resolved with the command's ``--set`` overrides; the varied keys
+    are set per run on top of these)."""
+    from taichi_bearing.case import case_to_dict, load_case
+
+    blocks: list = [Heading("How it was made", 2), Para(f"`{command}`")]
+    case = case_to_dict(load_case(case_path, overrides))
+    sets = ", ".join(f"`{o}`" for o in overrides) or "none"
+    blocks.append(Para(f"Case `{case_path}`, with the command's --set overrides ({sets}):"))
+    blocks.append(Table(["key", "value"], [[k, fmt(v)] for k, v in _flat(case)]))
+    return blocks
