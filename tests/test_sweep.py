@@ -4,7 +4,7 @@ case is reported while the others finish, bad arguments exit 2; any case key var
 
 Cells: the coarse validation case, 0.1 ms of transient (the preload dominates) with a
 loose preload tolerance and no frames or per-run report; 2 loads x 2 speeds; one thread
-per case, one case at a time.
+per case, two cases at a time (the 2-core CI machine).
 """
 
 from __future__ import annotations
@@ -74,7 +74,7 @@ def _mtimes(out: Path) -> dict[str, int]:
 @pytest.fixture(scope="module")
 def pool_sweep(tmp_path_factory):
     out = tmp_path_factory.mktemp("pool")
-    rc = cli(_sweep_argv(out, "--workers", "1"))
+    rc = cli(_sweep_argv(out, "--workers", "2"))
     return out, rc
 
 
@@ -106,7 +106,7 @@ def test_rerun_skips_finished_cells(pool_sweep):
     out, _ = pool_sweep
     before = _mtimes(out)
     assert len(before) == 4
-    assert cli(_sweep_argv(out, "--workers", "1")) == 0
+    assert cli(_sweep_argv(out, "--workers", "2")) == 0
     assert _mtimes(out) == before  # no run folder was written again
     df = pd.read_csv(out / "sweep_summary.csv")
     assert not df["ran"].any()
@@ -124,7 +124,7 @@ def test_dask_cluster_matches_pool_and_reports_a_failed_cell(pool_sweep, tmp_pat
     cells = make_cells(CASE, _load_speed_axes(), out, SETS, threads=1, post=False)
     with (
         distributed.LocalCluster(
-            n_workers=1, threads_per_worker=1, processes=True, dashboard_address=None
+            n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None
         ) as cluster,
         distributed.Client(cluster) as client,
     ):
