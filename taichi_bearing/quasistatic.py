@@ -61,7 +61,7 @@ from taichi_bearing.bearing import (
     wrap_angle,
 )
 from taichi_bearing.case import Bearing, Case, Material
-from taichi_bearing.mesh.spall_profile import SpallProfile
+from taichi_bearing.spall_profile import SpallProfile
 
 __all__ = [
     "ContactModel",
@@ -148,7 +148,7 @@ class Spall:
 
     def profile(self, raceway_radius: float) -> SpallProfile:
         """The cross-section, angles from +x, centred on the bearing's 12 o'clock
-        branch of the spall's centre (see :mod:`taichi_bearing.mesh.spall_profile`)."""
+        branch of the spall's centre (see :mod:`taichi_bearing.spall_profile`)."""
         return SpallProfile(
             raceway_radius,
             self.entry + 0.5 * math.pi,

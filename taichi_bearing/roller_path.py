@@ -2,7 +2,7 @@
 
 The roller (radius ``r``) sits inside the outer raceway (radius ``R``) with its centre on
 the ray at polar angle ``phi``; it moves outward along the ray until it first touches the
-profile (:class:`~taichi_bearing.mesh.spall_profile.SpallProfile`). Its drop is how much
+profile (:class:`~taichi_bearing.spall_profile.SpallProfile`). Its drop is how much
 further out the centre is than on the healthy raceway, ``rho - (R - r)``. Each part of
 the profile gives its own first touch in closed form: the raceway circle (or the floor)
 straight under the roller, a corner (circle on a point: the roller pivots on it), a
@@ -16,7 +16,7 @@ import math
 
 import numpy as np
 
-from taichi_bearing.mesh.spall_profile import EdgeGeometry, Piece, SpallProfile, unit
+from taichi_bearing.spall_profile import EdgeGeometry, Piece, SpallProfile, unit
 
 __all__ = ["Touch", "centre_drop", "side_touch", "wall_touch"]
 

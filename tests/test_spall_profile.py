@@ -15,7 +15,6 @@ from taichi_bearing.case import CaseError, load_case
 from taichi_bearing.mesh.bearing_mesh import build_bearing_mesh
 from taichi_bearing.mesh.grid import boundary_segments, chain_segments, signed_areas
 from taichi_bearing.mesh.quality import jacobian_determinants, mesh_statistics
-from taichi_bearing.mesh.spall_profile import SpallProfile
 from taichi_bearing.mesh.spec import spec_from_case
 from taichi_bearing.quasistatic import (
     _profile_supports,
@@ -25,6 +24,7 @@ from taichi_bearing.quasistatic import (
     spall_from_case,
 )
 from taichi_bearing.roller_path import centre_drop
+from taichi_bearing.spall_profile import SpallProfile
 
 R, r = 0.112, 0.012  # outer raceway and roller radius of the default bearing, m
 

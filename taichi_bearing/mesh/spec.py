@@ -11,7 +11,7 @@ import math
 from dataclasses import dataclass, field
 
 from taichi_bearing.case import Bearing
-from taichi_bearing.mesh.spall_profile import SpallProfile
+from taichi_bearing.spall_profile import SpallProfile
 
 
 def polar_from_top(angle_from_top: float) -> float:
