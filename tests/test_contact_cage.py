@@ -123,3 +123,20 @@ def test_in_step_cage_matches_its_own_kernel_called_from_python():
     np.testing.assert_array_equal(x1, x2)
     np.testing.assert_array_equal(v1, v2)
     assert (a1, w1) == (a2, w2)
+
+
+def test_checkpoint_state_round_trips_and_an_older_layout_is_refused():
+    """The cage's state comes back exactly; a checkpoint written when the cage kept its
+    torque in its state (three entries) is refused with one line, not a Taichi error."""
+    from taichi_bearing.errors import InputError
+
+    model, cage = orbiting_roller(OMEGA)
+    model.advance(200)
+    saved = cage.state_arrays()
+    speed = cage.speed
+    model.advance(50)
+    cage.load_state_arrays(saved)
+    assert cage.speed == speed
+    old = dict(saved, cage_state=np.append(saved["cage_state"], 0.0))
+    with pytest.raises(InputError, match="cage's state has shape"):
+        cage.load_state_arrays(old)

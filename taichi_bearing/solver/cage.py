@@ -21,10 +21,12 @@ from collections.abc import Sequence
 import numpy as np
 import taichi as ti
 
+from taichi_bearing.errors import InputError
 from taichi_bearing.solver.contact_law import friction_force, normal_force
 from taichi_bearing.solver.contact_setup import ContactParameters, segment_stiffness
-from taichi_bearing.solver.contributor import ForceContributor, add_force
+from taichi_bearing.solver.contributor import FORCE_QUANTUM, ForceContributor, add_force, force_at
 from taichi_bearing.solver.model import Model
+from taichi_bearing.solver.team import share
 
 __all__ = ["RigidCage"]
 
@@ -123,10 +125,16 @@ class RigidCage(ForceContributor):
         self.et = ti.field(ti.f64, shape=nn)
         self.angle0 = ti.field(ti.f64, shape=nz)
         self.radial = ti.Vector.field(2, ti.f64, shape=nz)  # pocket directions this step
-        self.cur = ti.Vector.field(3, ti.f64, shape=nz)  # on roller: fx, fy, tangential
+        # This step's pocket force on each roller (fx, fy, tangential) and torque on the
+        # cage, summed in fixed point (add_force): the same sums whatever order the
+        # members add them in, so the pockets are shared among them like the contact's
+        # queries.
+        self.cur = ti.Vector.field(3, ti.i64, shape=nz)
+        self.torque = ti.field(ti.i64, shape=1)
         self.acc = ti.Vector.field(3, ti.f64, shape=nz)
-        self.state = ti.field(ti.f64, shape=3)  # angle, speed, torque
-        self.diss = ti.field(ti.f64, shape=2)  # friction, damping
+        self.state = ti.field(ti.f64, shape=2)  # angle, speed
+        # friction and damping energy dissipated, per node (no shared sum)
+        self.diss = ti.Vector.field(2, ti.f64, shape=nn)
         self.node.from_numpy(node_ids)
         self.roller.from_numpy(np.concatenate(roller).astype(np.int32))
         self.k.from_numpy(np.concatenate(kk))
@@ -165,25 +173,33 @@ class RigidCage(ForceContributor):
     # ------------------------------------------------------------------ in the step
 
     @ti.func
+    def step_begin(self, member, n_members):
+        """Member 0: each pocket's direction this step; the sums restart."""
+        if member == 0:
+            for j in range(self.n_rollers):
+                self._frame(j)
+            self.torque[0] = ti.i64(0)
+
+    @ti.func
+    def step_share(self, member, n_members, x: ti.template(), v: ti.template(),
+                   mass: ti.template(), f_ext: ti.template(), dt, dt_v):  # fmt: skip
+        """This member's share of the rollers' surface nodes in the pockets."""
+        n0, n1 = share(self.n_nodes, member, n_members)
+        for n in range(n0, n1):
+            self._pocket(n, x, v, mass, f_ext, dt)
+
+    @ti.func
     def step_end(self, x: ti.template(), v: ti.template(), mass: ti.template(),
                  f_ext: ti.template(), dt, dt_v):  # fmt: skip
-        """Member 0, once the shares are done: the pocket forces, summed in a fixed order
-        (a few thousand light items), then the cage's leapfrog step."""
-        for j in range(self.n_rollers):
-            self._frame(j)
-        for n in range(self.n_nodes):
-            self._pocket(n, x, v, mass, f_ext, dt)
+        """Member 0, after every share: the cage's leapfrog step."""
         self._turn(dt, dt_v)
 
     @ti.func
     def _frame(self, j):
-        """Pocket j's radial direction this step; its force sum restarts (and so does
-        the torque, once, with pocket 0)."""
-        self.cur[j] = ti.Vector.zero(ti.f64, 3)
+        """Pocket j's radial direction this step; its force sum restarts."""
+        self.cur[j] = ti.Vector.zero(ti.i64, 3)
         phi = self.angle0[j] + self.state[0]
         self.radial[j] = ti.Vector([ti.cos(phi), ti.sin(phi)])
-        if j == 0:
-            self.state[2] = 0.0
 
     @ti.func
     def _pocket(self, n, x: ti.template(), v: ti.template(), mass: ti.template(),
@@ -207,8 +223,7 @@ class RigidCage(ForceContributor):
         if pen > self._capture:
             side = 0
         if side == 0 or side != self.side[n]:
-            if self.et[n] != 0.0:
-                self.diss[0] += self.et[n]  # friction spring released
+            self.diss[n][0] += self.et[n]  # friction spring released
             self.ft[n] = 0.0
             self.et[n] = 0.0
         self.side[n] = side
@@ -228,21 +243,20 @@ class RigidCage(ForceContributor):
             )
             F = fn * nv + ft * er
             add_force(f_ext, i, F)
-            self.cur[j] += ti.Vector([F[0], F[1], F.dot(et)])
-            # Reaction -F on the cage at d: torque d x (-F).
-            self.state[2] += -(d[0] * F[1] - d[1] * F[0])
+            add_force(self.cur, j, ti.Vector([F[0], F[1], F.dot(et)]))
+            # Reaction -F on the cage at d: torque d x (-F), N m.
+            add_force(self.torque, 0, -(d[0] * F[1] - d[1] * F[0]))
             self.ft[n] = ft
             self.et[n] = e_t
             self.en[n] = 0.5 * k * pen * pen
-            self.diss[0] += e_fric
-            self.diss[1] += e_damp
+            self.diss[n] += ti.Vector([e_fric, e_damp])
 
     @ti.func
     def _turn(self, dt, dt_v):
         """Pocket sums into the sample sums, then the cage's leapfrog step."""
         for j in range(self.n_rollers):
-            self.acc[j] += self.cur[j]
-        w_new = self.state[1] + dt_v * self.state[2] / self.inertia
+            self.acc[j] += force_at(self.cur, j)
+        w_new = self.state[1] + dt_v * force_at(self.torque, 0) / self.inertia
         self.state[1] = w_new
         self.state[0] = self.state[0] + dt * w_new
 
@@ -281,7 +295,7 @@ class RigidCage(ForceContributor):
     def pocket_forces(self) -> np.ndarray:
         """Force of the cage on each roller in the last step, shape (Z, 3): fx, fy and the
         component along the pocket's tangential direction (+ = pushed forward, ccw), N."""
-        return self.cur.to_numpy()[: self.n_rollers].copy()
+        return self.cur.to_numpy()[: self.n_rollers] * FORCE_QUANTUM
 
     def pop_sample_means(self) -> np.ndarray:
         """Mean of :meth:`pocket_forces` over the steps since the last call; restarts."""
@@ -298,8 +312,8 @@ class RigidCage(ForceContributor):
     def energies(self) -> dict[str, float]:
         """``kinetic`` (I w^2 / 2), ``elastic`` (stored penalty), ``friction`` and
         ``damping`` (dissipated so far), J."""
-        d = self.diss.to_numpy()
         n = self.n_nodes
+        d = self.diss.to_numpy()[:n].sum(axis=0)
         return {
             "kinetic": 0.5 * self.inertia * self.speed**2,
             "elastic": float(self.en.to_numpy()[:n].sum() + self.et.to_numpy()[:n].sum()),
@@ -307,7 +321,7 @@ class RigidCage(ForceContributor):
             "damping": float(d[1]),
         }
 
-    _STATE = ("ft", "side", "en", "et", "state", "diss", "acc")
+    _STATE = ("ft", "side", "en", "et", "state", "diss", "acc")  # (cur, torque: per step)
 
     def state_arrays(self) -> dict[str, np.ndarray]:
         """Everything needed to continue a run (checkpoints)."""
@@ -318,5 +332,11 @@ class RigidCage(ForceContributor):
     def load_state_arrays(self, arrays) -> None:
         """Restore :meth:`state_arrays`."""
         for k in self._STATE:
-            getattr(self, k).from_numpy(np.asarray(arrays[f"cage_{k}"]))
+            field, saved = getattr(self, k), np.asarray(arrays[f"cage_{k}"])
+            if saved.shape != field.to_numpy().shape:  # a checkpoint of an older layout
+                raise InputError(
+                    f"checkpoint: the cage's {k} has shape {saved.shape}, this version keeps "
+                    f"{field.to_numpy().shape}: written by an older version, run without --resume"
+                )
+            field.from_numpy(saved)
         self.n_samples = int(arrays["cage_n_samples"])
