@@ -1,5 +1,7 @@
 """Validation cases of the solver against analytic contact mechanics (no bearing here).
 
 - :mod:`taichi_bearing.validation.impact`: a cylinder dropped onto a block, peak force and
-  contact duration against the plane-strain Hertz impact solution (issue 18, item 5).
+  contact duration against the plane-strain Hertz impact solution.
+- :mod:`taichi_bearing.validation.hertz_impact`: that solution (the line contact's
+  force-approach law and the rigid-body impact ODE), numpy and scipy only.
 """
