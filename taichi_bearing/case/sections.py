@@ -201,6 +201,41 @@ class MeshControls:
     )
     max_size: float = key("mm", gt=0.0, doc="largest element inside the bodies")
     growth: float = key(ge=1.0, le=3.0, doc="size ratio between neighbouring element layers")
+    spall_size: float = key(
+        "mm",
+        ge=0.0,
+        default=0.0,
+        doc="finer element size along the raceway with the spall, within spall_zone_mm of "
+        "its edges (walls and floor included); beyond, the elements grow to surface_size_mm "
+        "by at most growth (at least 1.2) per element and the extra layers merge into the "
+        "ring's; 0 is surface_size_mm (no refinement); at most surface_size_mm, at least "
+        "1/16 of it; needs a defect",
+    )
+    spall_zone: float = key(
+        "mm",
+        ge=0.0,
+        default=2e-3,
+        doc="arc length of raceway beyond each edge of the spall meshed at spall_size_mm "
+        "(widened where the edges' meshing needs it, and past any adapter corner or 12 "
+        "o'clock that would fall near its ends or in the transition); the spall with its "
+        "zones and "
+        "transitions must be shorter than half the raceway",
+    )
+    roller_surface_size: float = key(
+        "mm",
+        ge=0.0,
+        default=0.0,
+        doc="finer element size along the surfaces of the fine rollers (fine_rollers), "
+        "graded into each roller's core by growth; 0 is surface_size_mm; at most "
+        "surface_size_mm",
+    )
+    fine_rollers: int = key(
+        ge=0,
+        default=0,
+        doc="how many rollers get roller_surface_size_mm, in the order they leave the "
+        "spall (the default case: roller 0, then 19, 18, ...; without a defect, the order "
+        "they reach 12 o'clock); 0 is all; at most bearing.n_rollers",
+    )
     elements_per_wavelength: float = key(
         ge=2.0,
         le=100.0,

@@ -66,6 +66,7 @@ def check_case(case: Case, source: str | None = None) -> None:
     """
     _check_geometry(case, source)
     _check_defect(case, source)
+    _check_refinement(case, source)
     _check_time_step(case, source)
     _check_sensors(case, source)
 
@@ -195,8 +196,12 @@ def _check_defect(case: Case, src: str | None) -> None:
             ExtendedDefectWarning(
                 "defect.length_mm",
                 f"{d.length * MM:g} mm is longer than the roller spacing on the {d.race} "
-                f"raceway ({spacing * MM:.4g} mm): an extended defect, more than one roller "
-                "can be inside it (the models assume a localised one)",
+                f"raceway ({spacing * MM:.4g} mm): an extended defect, two rollers can be "
+                "inside it at once. The run follows it: each roller's entry and exit are "
+                "found from its own force, the quasi-static model unloads every roller over "
+                "it and the others share the load (the report's load-sharing table); the "
+                "defect_size check is not applied (the acceleration's entry and exit events "
+                "then belong to different rollers)",
                 src,
             ),
             stacklevel=4,
@@ -225,17 +230,77 @@ def _check_profile(case: Case, raceway: float, src: str | None) -> None:
         raise CaseError("defect.edge_radius_mm", str(exc), src) from None
 
 
+MAX_REFINEMENT = 16.0
+"""How many times finer than ``mesh.surface_size_mm`` the zone round the spall may be: the
+mesher builds a whole ring at the fine size before it keeps the zone."""
+
+
+def _check_refinement(case: Case, src: str | None) -> None:
+    """The finer sizes round the spall and on the rollers refine, never coarsen; the
+    zone needs a spall and must leave most of the raceway to the surface size."""
+    m, b, d = case.mesh, case.bearing, case.defect
+    for name, value in (("spall_size_mm", m.spall_size), ("roller_surface_size_mm",
+                        m.roller_surface_size)):  # fmt: skip
+        if value > m.surface_size:
+            raise CaseError(
+                f"mesh.{name}",
+                f"{value * MM:g} mm is coarser than mesh.surface_size_mm "
+                f"({m.surface_size * MM:g} mm): it is for finer elements (0 is the surface "
+                "size)",
+                src,
+            )
+    if m.fine_rollers > b.n_rollers:
+        raise CaseError(
+            "mesh.fine_rollers",
+            f"{m.fine_rollers} is more than the bearing's {b.n_rollers} rollers (0 is all)",
+            src,
+        )
+    if not 0.0 < m.spall_size < m.surface_size:
+        return
+    if not d.present:
+        raise CaseError(
+            "mesh.spall_size_mm", "refines the raceway round a spall, and there is none", src
+        )
+    if m.spall_size * MAX_REFINEMENT < m.surface_size * (1.0 - 1e-12):
+        raise CaseError(
+            "mesh.spall_size_mm",
+            f"{m.spall_size * MM:g} mm is finer than 1/{MAX_REFINEMENT:g} of "
+            f"mesh.surface_size_mm ({m.surface_size * MM:g} mm); refine surface_size_mm too",
+            src,
+        )
+    raceway = b.outer_raceway_radius if d.race == "outer" else b.inner_raceway_radius
+    if d.length + 2.0 * m.spall_zone >= math.pi * raceway:
+        raise CaseError(
+            "mesh.spall_zone_mm",
+            f"the spall ({d.length * MM:g} mm) with {m.spall_zone * MM:g} mm either side "
+            f"covers half the {d.race} raceway ({math.pi * raceway * MM:.4g} mm) or more",
+            src,
+        )
+
+
+def _smallest_size(case: Case) -> tuple[float, str]:
+    """The smallest element size along a contact surface, and its key."""
+    m = case.mesh
+    sizes = [(m.surface_size, "mesh.surface_size_mm")]
+    if case.defect.present and m.spall_size > 0.0:
+        sizes.append((m.spall_size, "mesh.spall_size_mm"))
+    if m.roller_surface_size > 0.0:
+        sizes.append((m.roller_surface_size, "mesh.roller_surface_size_mm"))
+    return min(sizes)
+
+
 def stable_step_estimate(case: Case) -> float:
     """The explicit time step of a case before meshing, s.
 
-    The critical step ``2 / omega_e`` of a square element of ``mesh.surface_size``:
+    The critical step ``2 / omega_e`` of a square element of the smallest surface size
+    (``mesh.surface_size``, or ``spall_size`` or ``roller_surface_size`` when finer):
     ``L / (sqrt(2) c)`` with ``c`` the plane-strain dilatational wave speed
     (:func:`taichi_bearing.solver.element.element_max_frequencies`). The solver's step
     is within a few tens of per cent of it (default case: 5.9e-8 s estimated, 5.4e-8 s
     used: the spall's thinner elements and damping lower it, the global estimate and mass
     scaling raise it), which is all the checks here need.
     """
-    return case.mesh.surface_size / (math.sqrt(2.0) * case.material.wave_speed)
+    return _smallest_size(case)[0] / (math.sqrt(2.0) * case.material.wave_speed)
 
 
 def _check_time_step(case: Case, src: str | None) -> None:
@@ -256,8 +321,8 @@ def _check_time_step(case: Case, src: str | None) -> None:
                 f"rho {m.density:.4g} kg/m^3) is faster than in any solid"
             )
         else:
-            key = "mesh.surface_size_mm"
-            why = f"{case.mesh.surface_size * MM:.3g} mm elements are too small"
+            size, key = _smallest_size(case)
+            why = f"{size * MM:.3g} mm elements are too small"
         raise CaseError(
             key,
             f"the time step would be about {dt:.2g} s, below the {STEP_FLOOR:g} s floor: {why}",

@@ -46,6 +46,7 @@ def main(args: argparse.Namespace) -> int:
         "build_seconds": seconds,
         "statistics": stats.__dict__,
         "spall": mesh.info.get("spall"),
+        "refinement": _refinement(mesh.info),
         "sensor_nodes": mesh.sensor_nodes,
     }
     files.append(out / "mesh_statistics.json")
@@ -60,6 +61,9 @@ def main(args: argparse.Namespace) -> int:
             f"{1e3 * spall['depth']:.4g} mm at {math.degrees(spall['centre_angle_from_top']):.4g} "
             f"deg from 12 o'clock, {spall['wall_layers']} element layer(s) deep"
         )
+    refined = summary["refinement"]
+    if refined["zone"] or refined["fine_rollers"]:
+        print(_refinement_text(refined))
     dt = 0.9 * stats.critical_dt
     print(
         f"solver step about {1e9 * dt:.4g} ns: {case.run.duration / dt:,.0f} steps for "
@@ -70,3 +74,43 @@ def main(args: argparse.Namespace) -> int:
     for f in files:
         print(f"wrote {f}")
     return 0
+
+
+def _refinement(info: dict) -> dict:
+    """Where the mesh is finer than ``mesh.surface_size_mm``: the raceway round the spall
+    (its extent in mm of arc from the spall's centre) and the fine rollers."""
+    sizes = info["sizes"]
+    rollers = [float(v) for v in sizes["roller_surface_size"]]
+    fine = [j for j, v in enumerate(rollers) if v < sizes["surface_size"]]
+    zone = info.get("fine_zone")
+    if zone:
+        spall = info["spall"]
+        radius, centre = spall["raceway_radius"], spall["centre_angle"]
+        zone = {
+            "size_mm": 1e3 * zone["fine_size"],
+            "from_centre_mm": [1e3 * radius * (a - centre) for a in zone["zone_angles"]],
+            "transitions_to_mm": [1e3 * radius * (a - centre) for a in zone["transition_angles"]],
+            "band_depth_mm": 1e3 * zone["band_depth"],
+        }
+    return {
+        "zone": zone,
+        "fine_rollers": fine,
+        "roller_surface_size_mm": 1e3 * min(rollers),
+    }
+
+
+def _refinement_text(refined: dict) -> str:
+    parts = []
+    zone = refined["zone"]
+    if zone:
+        lo, hi = zone["from_centre_mm"]
+        t_lo, t_hi = zone["transitions_to_mm"]
+        parts.append(
+            f"raceway {zone['size_mm']:.4g} mm from {lo:.4g} to {hi:.4g} mm of the spall's "
+            f"centre (graded to the surface size by {t_lo:.4g} and {t_hi:.4g} mm, "
+            f"{zone['band_depth_mm']:.3g} mm deep)"
+        )
+    if refined["fine_rollers"]:
+        names = ", ".join(str(j) for j in refined["fine_rollers"])
+        parts.append(f"rollers {names} at {refined['roller_surface_size_mm']:.4g} mm")
+    return "refined: " + "; ".join(parts)

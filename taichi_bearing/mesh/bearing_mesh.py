@@ -19,6 +19,7 @@ from taichi_bearing.mesh.rings import TWO_PI, Notch, RingMesh, ring_mesh
 from taichi_bearing.mesh.rollers import roller_mesh
 from taichi_bearing.mesh.spec import BearingMeshSpec, polar_from_top
 from taichi_bearing.mesh.types import Mesh
+from taichi_bearing.mesh.zone import refined_ring_mesh
 
 TOP = math.pi / 2  # 12 o'clock, from +x
 
@@ -49,16 +50,18 @@ def build_bearing_mesh(spec: BearingMeshSpec) -> Mesh:
         spec.surface_size,
         spec.max_size,
         spec.growth,
+        zone=_zone(spec),
     )
     bodies = [
         ("outer_ring", outer.nodes, outer.elements),
         ("inner_ring", inner.nodes, inner.elements),
     ]
     centres = []
+    sizes = spec.roller_sizes()
     for j, angle in enumerate(spec.roller_angles()):
         centre = (spec.pitch_radius * math.cos(angle), spec.pitch_radius * math.sin(angle))
         nodes, elements, _ = roller_mesh(
-            spec.roller_radius, spec.surface_size, spec.max_size, spec.growth, centre
+            spec.roller_radius, sizes[j], spec.max_size, spec.growth, centre
         )
         bodies.append((f"roller{j}", nodes, elements))
         centres.append(centre)
@@ -104,8 +107,20 @@ def _notch(spec: BearingMeshSpec, race: str, radius: float) -> Notch | ProfileMa
     return Notch(start=start, span=span, depth=spec.defect_depth)
 
 
-def _ring(notch: Notch | ProfileMap | None, *args) -> RingMesh:
-    """:func:`ring_mesh`, or :func:`profile_ring_mesh` for a profiled spall."""
+def _zone(spec: BearingMeshSpec) -> tuple[float, float] | None:
+    """The fine size and zone of the raceway round the spall, None when uniform."""
+    return (spec.spall_size, spec.spall_zone) if spec.refined_spall else None
+
+
+def _ring(
+    notch: Notch | ProfileMap | None, *args, zone: tuple[float, float] | None = None
+) -> RingMesh:
+    """:func:`ring_mesh`, or :func:`profile_ring_mesh` for a profiled spall; with a
+    ``zone`` (fine size, arc beyond the spall's edges) and a spall,
+    :func:`~taichi_bearing.mesh.zone.refined_ring_mesh`."""
+    if zone is not None and notch is not None:
+        spall = notch.profile if isinstance(notch, ProfileMap) else notch
+        return refined_ring_mesh(*args, spall, *zone)
     if isinstance(notch, ProfileMap):
         return profile_ring_mesh(*args, notch)
     return ring_mesh(*args, notch)
@@ -149,6 +164,7 @@ def _outer_ring_with_adapter(
         spec.surface_size,
         spec.max_size,
         spec.growth,
+        zone=_zone(spec),
     )
     theta = np.mod(ring.back_theta, TWO_PI)
     eps = 1e-9
@@ -202,6 +218,7 @@ def _info(spec, mesh, centres, outer, inner, notch_outer, notch_inner, offsets) 
     for j in range(spec.n_rollers):
         polygon[f"roller{j}"] = int(len(mesh.surfaces[f"roller{j}"]))
     angles = spec.roller_angles()
+    zone = outer.info.get("zone") or inner.info.get("zone")
     return {
         "polygon_edges": polygon,
         "polygon_edges_note": (
@@ -230,7 +247,11 @@ def _info(spec, mesh, centres, outer, inner, notch_outer, notch_inner, offsets) 
             "max_size": spec.max_size,
             "growth": spec.growth,
             "elements_per_wavelength": spec.elements_per_wavelength,
+            "spall_size": spec.spall_size if spec.refined_spall else spec.surface_size,
+            "spall_zone": spec.spall_zone if spec.refined_spall else 0.0,
+            "roller_surface_size": np.asarray(spec.roller_sizes()),
         },
+        "fine_zone": zone,
         "spall": spall,
         "cage": {
             "model": "rigid",
@@ -303,6 +324,6 @@ def _profile_info(race: str, pmap: ProfileMap, ring: RingMesh, offset: int) -> d
         "start_slope": p.start_slope,
         "end_slope": p.end_slope,
         "edge_radius": p.edge_radius,
-        "wall_layers": pmap.m,
+        "wall_layers": ring.info["profile_levels"],
         "corner_nodes": np.asarray(ring.info["corner_nodes"]) + offset,
     }

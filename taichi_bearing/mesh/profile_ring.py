@@ -121,10 +121,15 @@ def _surface(profile: SpallProfile, s_pieces: np.ndarray, s) -> np.ndarray:
 
 
 def profile_map(
-    profile: SpallProfile, thickness: float, size: float, growth: float, max_size: float
+    profile: SpallProfile,
+    thickness: float,
+    size: float,
+    growth: float,
+    max_size: float,
+    layers: np.ndarray | None = None,
 ) -> ProfileMap:
     """The raceway level of a ring of ``thickness`` (graded from ``size`` by ``growth``
-    up to ``max_size``) with the spall ``profile``.
+    up to ``max_size``, or in the given ``layers``) with the spall ``profile``.
 
     Raises
     ------
@@ -132,7 +137,7 @@ def profile_map(
         When the spall reaches too deep into the ring's layers, or its walls are too
         close together for the element size.
     """
-    t = graded_layers(thickness, size, growth, max_size)
+    t = graded_layers(thickness, size, growth, max_size) if layers is None else layers
     depths = np.concatenate([[0.0], np.cumsum(t)])
     depths[-1] = thickness
     d, r = profile.depth, profile.raceway_radius

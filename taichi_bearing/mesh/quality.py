@@ -122,6 +122,7 @@ class MeshStatistics:
     worst_element: int
     polygon_edges: dict[str, int] = field(default_factory=dict)
     part_max_size: dict[str, float] = field(default_factory=dict)
+    part_min_char_length: dict[str, float] = field(default_factory=dict)
     resolved_frequency: dict[str, float] = field(default_factory=dict)
     elements_per_wavelength: float = ELEMENTS_PER_WAVELENGTH
     resolution_wave_speed: float = 0.0
@@ -146,12 +147,11 @@ class MeshStatistics:
             f"(element {self.worst_element}); wave speed {self.wave_speed:.5g} m/s",
             f"critical time step {1e9 * self.critical_dt:.4g} ns (solver uses 0.9 x)",
         ]
+        if self.part_min_char_length:
+            smallest = _per_part(self.part_min_char_length, 1e3)
+            lines.append(f"smallest characteristic length per part (mm): {smallest}")
         if self.resolved_frequency:
-            groups = _group_rollers(self.resolved_frequency)
-            parts = ", ".join(
-                f"{label} {_span_khz([self.resolved_frequency[n] for n in names])}"
-                for label, names in groups
-            )
+            parts = _per_part(self.resolved_frequency, 1e-3)
             lines.append(
                 f"resolves up to (kHz, {self.elements_per_wavelength:g} elements per "
                 f"Rayleigh wavelength, c_R {self.resolution_wave_speed:.5g} m/s, longest "
@@ -180,8 +180,16 @@ def _group_rollers(per_part: dict[str, int]) -> list[tuple[str, list[str]]]:
     return out
 
 
-def _span_khz(values: list[float]) -> str:
-    lo, hi = 1e-3 * min(values), 1e-3 * max(values)
+def _per_part(per_part: dict[str, float], scale: float) -> str:
+    """One value (or span of values, the rollers grouped) per part, times ``scale``."""
+    return ", ".join(
+        f"{label} {_span_scaled([per_part[n] for n in names], scale)}"
+        for label, names in _group_rollers(per_part)
+    )
+
+
+def _span_scaled(values: list[float], scale: float) -> str:
+    lo, hi = scale * min(values), scale * max(values)
     return f"{lo:.3g}" if f"{lo:.3g}" == f"{hi:.3g}" else f"{lo:.3g}-{hi:.3g}"
 
 
@@ -198,8 +206,8 @@ def mesh_statistics(
     wave_speed_m_s: float | None = None,
     elements_per_wavelength: float | None = None,
 ) -> MeshStatistics:
-    """Counts per part, element sizes, worst quality, the critical time step and the
-    highest frequency each part resolves.
+    """Counts per part, element sizes (the smallest characteristic length per part too),
+    worst quality, the critical time step and the highest frequency each part resolves.
 
     Parameters
     ----------
@@ -220,7 +228,7 @@ def mesh_statistics(
     c_r = rayleigh_wave_speed(youngs_modulus, poissons_ratio, density)
     g = element_geometry(mesh.nodes, mesh.elements)
     worst = int(np.argmin(g["char_length"]))
-    part_elements, part_nodes, part_size, resolved = {}, {}, {}, {}
+    part_elements, part_nodes, part_size, part_length, resolved = {}, {}, {}, {}, {}
     for p, name in enumerate(mesh.part_names):
         in_part = mesh.element_part == p
         sel = mesh.elements[in_part]
@@ -228,6 +236,7 @@ def mesh_statistics(
         part_nodes[name] = int(len(np.unique(sel)))
         if in_part.any():
             part_size[name] = float(g["max_edge"][in_part].max())
+            part_length[name] = float(g["char_length"][in_part].min())
             resolved[name] = c_r / (elements_per_wavelength * part_size[name])
     polygon = {k: int(v) for k, v in mesh.info.get("polygon_edges", {}).items()}
     return MeshStatistics(
@@ -245,6 +254,7 @@ def mesh_statistics(
         worst_element=worst,
         polygon_edges=polygon,
         part_max_size=part_size,
+        part_min_char_length=part_length,
         resolved_frequency=resolved,
         elements_per_wavelength=float(elements_per_wavelength),
         resolution_wave_speed=c_r,

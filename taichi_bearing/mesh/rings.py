@@ -85,6 +85,7 @@ def ring_mesh(
     max_size: float,
     growth: float,
     notch: Notch | None = None,
+    layers: np.ndarray | None = None,
 ) -> RingMesh:
     """Mesh a ring graded from its raceway.
 
@@ -103,13 +104,16 @@ def ring_mesh(
         Surface element size, largest element size (m) and layer growth ratio.
     notch : Notch, optional
         The spall to cut into the raceway.
+    layers : ndarray, optional
+        Layer thicknesses from the raceway, summing to ``thickness``; default graded
+        from ``size`` by ``growth`` up to ``max_size``.
     """
     sign = 1.0 if outward else -1.0
     if notch is not None:
         breakpoints = list(breakpoints) + [notch.start, notch.start + notch.span]
     theta0 = raceway_positions(raceway_radius, breakpoints, size)
     arcs = _arc_cells(theta0, breakpoints)
-    t = graded_layers(thickness, size, growth, max_size)
+    t = graded_layers(thickness, size, growth, max_size) if layers is None else layers
     far = np.concatenate([[0.0], np.cumsum(t)])
     far[-1] = thickness  # exact back face
     n_thin = 0

@@ -10,6 +10,8 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field
 
+import numpy as np
+
 from taichi_bearing.case import Bearing
 from taichi_bearing.spall_profile import SpallProfile
 
@@ -52,6 +54,16 @@ class BearingMeshSpec:
     surface_size, max_size, growth : float
         Element size along contact surfaces, largest element size, m, and the thickness
         ratio between neighbouring element layers.
+    spall_size, spall_zone : float
+        Element size along the raceway round the spall, and the arc length beyond each of
+        its edges meshed at that size, m (see :mod:`taichi_bearing.mesh.zone`); a
+        ``spall_size`` of 0, or not below ``surface_size``, leaves the raceway uniform.
+    roller_surface_size : float
+        Element size along the fine rollers' surfaces, m; 0 (or not below
+        ``surface_size``) is ``surface_size``.
+    fine_rollers : int
+        How many rollers are fine, in the order they leave the spall
+        (:meth:`passage_order`); 0 is all.
     elements_per_wavelength : float
         The resolution criterion the mesh is judged by (recorded in ``mesh.info``; see
         :mod:`taichi_bearing.mesh.quality`); it does not change the mesh.
@@ -82,6 +94,10 @@ class BearingMeshSpec:
     surface_size: float = 0.0005
     max_size: float = 0.003
     growth: float = 1.3
+    spall_size: float = 0.0
+    spall_zone: float = 0.002
+    roller_surface_size: float = 0.0
+    fine_rollers: int = 0
     elements_per_wavelength: float = 10.0
     first_roller_angle: float = math.radians(-5.0)
     cage_pocket_clearance: float = 0.0005
@@ -105,6 +121,11 @@ class BearingMeshSpec:
             raise ValueError(f"growth must be >= 1, got {self.growth}")
         if self.max_size < self.surface_size:
             raise ValueError("max_size must not be smaller than surface_size")
+        for name in ("spall_size", "spall_zone", "roller_surface_size", "fine_rollers"):
+            if getattr(self, name) < 0:
+                raise ValueError(f"{name} must be >= 0, got {getattr(self, name)}")
+        if self.refined_spall and not self.has_defect:
+            raise ValueError("spall_size needs a spall to refine round")
         if self.clearance < 0:
             raise ValueError(f"clearance must be >= 0, got {self.clearance}")
         if self.inner_ring_bore_radius <= 0:
@@ -141,6 +162,36 @@ class BearingMeshSpec:
     @property
     def has_defect(self) -> bool:
         return self.defect_race != "none" and self.defect_length > 0 and self.defect_depth > 0
+
+    @property
+    def refined_spall(self) -> bool:
+        """Whether the raceway round the spall is meshed finer than ``surface_size``."""
+        return 0.0 < self.spall_size < self.surface_size
+
+    def roller_sizes(self) -> list[float]:
+        """Element size along each roller's surface, m, roller 0 first."""
+        fine = self.roller_surface_size
+        if not 0.0 < fine < self.surface_size:
+            return [self.surface_size] * self.n_rollers
+        count = self.fine_rollers if 0 < self.fine_rollers < self.n_rollers else self.n_rollers
+        chosen = set(self.passage_order()[:count])
+        return [fine if j in chosen else self.surface_size for j in range(self.n_rollers)]
+
+    def passage_order(self) -> list[int]:
+        """The rollers in the order they leave the spall (roller 0 first when it starts
+        before the spall, as in the default case). On the outer raceway the rollers move
+        counter-clockwise and leave over the edge at the larger angle; on the inner one,
+        in the inner ring's frame, clockwise over the edge at the smaller angle. Without
+        a defect, the order they reach 12 o'clock."""
+        angles = np.asarray(self.roller_angles())
+        profile = self.spall_profile()
+        if profile is None:
+            ahead = np.mod(polar_from_top(0.0) - angles, 2 * math.pi)
+        elif self.defect_race == "outer":
+            ahead = np.mod(profile.end - angles, 2 * math.pi)
+        else:
+            ahead = np.mod(angles - profile.start, 2 * math.pi)
+        return [int(j) for j in np.argsort(ahead, kind="stable")]
 
     @property
     def bearing(self) -> Bearing:
@@ -240,6 +291,10 @@ def spec_from_case(case) -> BearingMeshSpec:
         surface_size=m.surface_size,
         max_size=m.max_size,
         growth=m.growth,
+        spall_size=m.spall_size,
+        spall_zone=m.spall_zone,
+        roller_surface_size=m.roller_surface_size,
+        fine_rollers=int(m.fine_rollers),
         elements_per_wavelength=m.elements_per_wavelength,
         first_roller_angle=case.run.first_roller_angle,
         cage_pocket_clearance=case.cage.pocket_clearance,
