@@ -25,6 +25,7 @@ from taichi_bearing.passages import (
     detect_spall_events,
     passage_signature,
     passage_statistics,
+    spall_passages,
 )
 from taichi_bearing.quasistatic import analytical_roller_forces
 from taichi_bearing.run_folder import (
@@ -44,6 +45,7 @@ __all__ = [
     "energy_balance_check",
     "exit_burst_check",
     "flexible_reference_checks",
+    "inner_restress_check",
     "passage_signature",
     "noise_frequencies",
     "predicted_noise_frequencies",
@@ -66,6 +68,9 @@ EXIT_BURST_LIMIT = 2.0
 PASSAGE_WINDOW_M = 1.5e-3  # contact travel of the entry and exit windows, m
 # A roller counts as loaded when the analytical model gives it this share of Q_max.
 LOADED_SHARE = 0.05
+# An inner-race passage is in the load zone when its roller carried this share of the
+# most loaded passing roller's force.
+LOAD_ZONE_SHARE = 0.5
 # Floor of each loaded roller's tolerance, as a share of Q_max (the zone-edge rollers).
 STATIC_EDGE_SHARE = 0.05
 
@@ -296,6 +301,49 @@ def restress_check(events: list, bpfo_hz: float) -> dict:
     )
 
 
+def inner_restress_check(events: list, bpfi_hz: float) -> dict:
+    """Time between the re-stressings of consecutive passages in the load zone against
+    1/BPFI (inner-race spall).
+
+    Passages in the load zone: the roller carried at least :data:`LOAD_ZONE_SHARE` of
+    the most loaded passing roller's force (towards the zone's edges a lightly loaded
+    roller's force, a few kN against the facets' rattle, gives no sharp event);
+    consecutive: one BPFI period apart (the spall passes unloaded rollers between two
+    visits to the load zone without an event). The re-stressing time is the first touch
+    of the exit edge: the exit time (the 0.1 ms mean force regaining half of F0) needs
+    more of the burst's impulses the larger F0, so it shifts with each passage's load,
+    which the spall's turning changes from passage to passage (the exits' intervals are
+    in the note).
+    """
+    loads = np.array([e["force_before_N"] for e in events])
+    zone = [e for e in events if e["force_before_N"] >= LOAD_ZONE_SHARE * loads.max()]
+    first = np.array([e["first_impact_time_s"] for e in zone])
+    exits = np.array([e["exit_time_s"] for e in zone])
+    keep = np.round(np.diff(first) * bpfi_hz) == 1
+    gaps, exit_gaps = np.diff(first)[keep], np.diff(exits)[keep]
+    left = f"{len(events) - len(zone)} passage(s) below {LOAD_ZONE_SHARE:.0%} of the largest load"
+    if (~keep).any():
+        left += f", {int((~keep).sum())} interval(s) over passages without an event"
+    if not len(gaps):
+        return check(
+            None,
+            RESTRESS_LIMIT,
+            None,
+            f"{len(zone)} re-stressing event(s) in the load zone: needs two one period "
+            f"apart; left out: {left}",
+        )
+    err = float(np.max(np.abs(gaps * bpfi_hz - 1.0)))
+    listing = ", ".join(f"{g * 1e3:.4g}" for g in gaps)
+    return check(
+        err,
+        RESTRESS_LIMIT,
+        err <= RESTRESS_LIMIT,
+        f"first touches of the exit edge: intervals {listing} ms vs 1/BPFI "
+        f"{1e3 / bpfi_hz:.4g} ms (exits: {', '.join(f'{g * 1e3:.4g}' for g in exit_gaps)} "
+        f"ms); left out: {left}",
+    )
+
+
 # ------------------------------------------------------------------ numerical noise
 
 
@@ -397,9 +445,28 @@ def noise_check(
 
 
 def defect_size_check(case: Case, signal: np.ndarray, fs: float) -> tuple[dict, float | None]:
+    """The spall length from the acceleration's entry and exit events
+    (:func:`diagnostics.estimate_defect_size`, on the race of the spall) against the
+    case's. Not applied to an extended spall: the estimate pairs each exit with the
+    entry before it, which is another roller's when two are inside at once."""
     from diagnostics import estimate_defect_size
 
     true = case.defect.length
+    spacing = case.bearing.roller_spacing * (
+        case.bearing.outer_raceway_radius
+        if case.defect.race == "outer"
+        else case.bearing.inner_raceway_radius
+    )
+    if case.defect.present and true >= spacing:
+        return check(
+            None,
+            DEFECT_SIZE_LIMIT,
+            None,
+            f"not applied: the {true * 1e3:.4g} mm spall is longer than the roller spacing "
+            f"({spacing * 1e3:.4g} mm), so the next roller enters before one leaves and the "
+            "acceleration's entry/exit pairs do not belong to one roller; each roller's own "
+            "entry and exit are in the events",
+        ), None
     try:
         est = estimate_defect_size(
             signal,
@@ -459,6 +526,7 @@ def run_checks(case: Case, info: Mapping, hist: pd.DataFrame, preload: Mapping) 
     """
     n = case.bearing.n_rollers
     freqs = fault_frequencies(case.bearing, case.operating.shaft_hz)
+    inner = case.defect.present and case.defect.race == "inner"
     rates = preload[ROLLING_RATES_KEY]
     checks: dict[str, dict] = {}
     analytical = analytical_roller_forces(case)
@@ -469,15 +537,23 @@ def run_checks(case: Case, info: Mapping, hist: pd.DataFrame, preload: Mapping) 
     speed, speed_values = speed_checks(case, hist, rates)
     checks.update(speed)
     checks["energy_balance"], balance = energy_balance_check(hist)
-    events = detect_spall_events(hist, n, info, case.bearing.roller_radius)
-    checks["restress_interval"] = restress_check(events, freqs.bpfo)
+    events = detect_spall_events(hist, n, info, case.bearing.roller_radius, case.operating.speed)
+    if inner:
+        checks["restress_interval"] = inner_restress_check(events, freqs.bpfi)
+    else:
+        checks["restress_interval"] = restress_check(events, freqs.bpfo)
     fs = case.run.sample_rate
     sensor = main_sensor(case, hist)
     signal = sensor_column(sensor, "ay")
     acc = hist[signal].to_numpy()
     # windows of 1.5 mm of contact travel (the re-stressing takes longer at low speed)
     window = PASSAGE_WINDOW_M / (rates["cage"] * case.bearing.outer_raceway_radius)
-    signatures = [passage_signature(hist, e, signal, window) for e in events]
+    race = "inner" if inner else "outer"
+    # inside an extended spall another roller's entry or exit falls in one's traverse
+    signatures = [
+        passage_signature(hist, e, signal, window, race, [o for o in events if o is not e])
+        for e in events
+    ]
     for e, sig in zip(events, signatures, strict=True):
         e.update(sig)
     checks["exit_burst"] = exit_burst_check(signatures)
@@ -485,6 +561,20 @@ def run_checks(case: Case, info: Mapping, hist: pd.DataFrame, preload: Mapping) 
     measured, resolution, prominence = noise_frequencies(acc, fs, predicted)
     checks["noise_frequencies"] = noise_check(predicted, measured, resolution, prominence)
     checks["defect_size"], size = defect_size_check(case, acc, fs)
+    extra: dict = {}
+    if inner:
+        from taichi_bearing.modulation import load_zone_check
+
+        passages = spall_passages(hist, n, info, case.operating.speed)
+        checks["load_zone_sidebands"], sidebands = load_zone_check(
+            case, acc, fs, passages, reference
+        )
+        extra = {
+            "spall_race": "inner",
+            "bpfi_hz": freqs.bpfi,
+            "passages": passages,
+            "sidebands": sidebands,
+        }
     return {
         "sensor_names": list(case.sensors),
         "analysed_signal": signal,
@@ -507,5 +597,6 @@ def run_checks(case: Case, info: Mapping, hist: pd.DataFrame, preload: Mapping) 
         "noise_peak_prominence_db": prominence,
         "defect_size_estimate_m": size,
         "defect_size_true_m": case.defect.length if case.defect.present else None,
+        **extra,
         "checks": checks,
     }

@@ -39,6 +39,16 @@ over about 2b at the entry edge and re-stresses over about 2b at the exit edge.
 The inner contact carries the radial component of the roller's outer force; the
 tangential component (non-zero only while pivoting) is taken by the cage pocket.
 
+Line spall on the inner raceway: the same supports on the convex raceway, the roller
+outside it dropping inward (``h = (R_i + r) - rho_corner`` while pivoting, the other root
+of the same circle-on-corner equation; :mod:`taichi_bearing.spall_contact`), the Hertz
+patch of the inner contact. The inner ring turns faster than the cage, so the rollers
+move clockwise relative to it and enter at the edge at the larger angle. The outer
+contact, healthy, carries the radial component of the inner contact's force. The spall
+turns with the shaft: its position relative to each roller changes with time, and a
+load distribution is solved for given spall angles (``spall_angles``;
+:mod:`taichi_bearing.inner_race` gives those of a roller passing over it).
+
 The "step" model, for comparison, ignores the roller size and contact width: a roller
 whose contact point is inside the notch drops straight by H.
 """
@@ -61,7 +71,14 @@ from taichi_bearing.bearing import (
     wrap_angle,
 )
 from taichi_bearing.case import Bearing, Case, Material
-from taichi_bearing.spall_profile import SpallProfile
+from taichi_bearing.spall_contact import (
+    Spall,
+    _corner_drop,  # noqa: F401 (tested here)
+    spall_from_case,
+    spall_supports,
+    support_fraction,
+    unit_from_top,
+)
 
 __all__ = [
     "ContactModel",
@@ -96,10 +113,18 @@ class ContactModel:
     e_star: float
     outer_radius_eff: float
     inner_radius_eff: float
+    inner_raceway_radius: float = 0.0
 
     @property
     def k_series(self) -> float:
         return float(series_stiffness(self.k_outer, self.k_inner, self.exponent))
+
+    def raceway(self, race: str) -> tuple[float, float, float]:
+        """Raceway radius, effective Hertz radius and sign of the spall's depth (+1: the
+        outer ring's material lies outside its raceway, -1: the inner ring's inside)."""
+        if race == "outer":
+            return self.outer_raceway_radius, self.outer_radius_eff, 1.0
+        return self.inner_raceway_radius, self.inner_radius_eff, -1.0
 
 
 def contact_model(
@@ -122,79 +147,7 @@ def contact_model(
         e_star=effective_modulus(material.youngs_modulus, material.poissons_ratio),
         outer_radius_eff=contact_radius(bearing, "outer"),
         inner_radius_eff=contact_radius(bearing, "inner"),
-    )
-
-
-@dataclass(frozen=True)
-class Spall:
-    """A line spall on the outer raceway: angular extent (rad, from 12 o'clock, between
-    its edges at the raceway), depth (m), the walls' angles from the raceway (rad; pi/2:
-    radial) and the radius rounding both edges (m; 0: sharp)."""
-
-    entry: float  # angle of the entry edge (rollers arrive here first)
-    exit: float
-    depth: float
-    entry_slope: float = 0.5 * math.pi
-    exit_slope: float = 0.5 * math.pi
-    edge_radius: float = 0.0
-
-    @property
-    def centre(self) -> float:
-        return 0.5 * (self.entry + self.exit)
-
-    @property
-    def half_angle(self) -> float:
-        return 0.5 * (self.exit - self.entry)
-
-    def profile(self, raceway_radius: float) -> SpallProfile:
-        """The cross-section, angles from +x, centred on the bearing's 12 o'clock
-        branch of the spall's centre (see :mod:`taichi_bearing.spall_profile`)."""
-        return SpallProfile(
-            raceway_radius,
-            self.entry + 0.5 * math.pi,
-            self.exit + 0.5 * math.pi,
-            self.depth,
-            outward=True,
-            start_slope=self.entry_slope,
-            end_slope=self.exit_slope,
-            edge_radius=self.edge_radius,
-        )
-
-    @property
-    def rectangular(self) -> bool:
-        """Radial walls and sharp edges: the model of design section 4 as it was first
-        written (:func:`_supports`)."""
-        right = 0.5 * math.pi
-        return (
-            abs(self.entry_slope - right) < 1e-12
-            and abs(self.exit_slope - right) < 1e-12
-            and self.edge_radius == 0.0
-        )
-
-
-def spall_from_case(case: Case) -> Spall | None:
-    """The case's outer-race spall, or None for a healthy bearing.
-
-    Raises
-    ------
-    ValueError
-        For an inner-race defect, which this model does not cover.
-    """
-    d = case.defect
-    if not d.present:
-        return None
-    if d.race != "outer":
-        raise ValueError(
-            f"defect.race: the analytical model covers outer-race spalls, got {d.race!r}"
-        )
-    half = 0.5 * d.length / case.bearing.outer_raceway_radius
-    return Spall(
-        entry=d.angle - half,
-        exit=d.angle + half,
-        depth=d.depth,
-        entry_slope=d.entry_slope,
-        exit_slope=d.exit_slope,
-        edge_radius=d.edge_radius,
+        inner_raceway_radius=bearing.inner_raceway_radius,
     )
 
 
@@ -219,6 +172,8 @@ class LoadDistribution:
     inner_half_width: np.ndarray
     outer_pmax: np.ndarray
     inner_pmax: np.ndarray
+    # (A,) the spall's centre at each cage angle, rad (given for a turning inner-race spall)
+    spall_angle: np.ndarray | None = None
 
     @property
     def n_rollers(self) -> int:
@@ -229,156 +184,51 @@ class LoadDistribution:
         return np.abs(self.outer_fy.sum(axis=1) - self.load) / self.load
 
 
-def support_fraction(xi):
-    """Share of a Hertz (semi-elliptic) pressure over [-1, 1] that lies below ``xi``.
+def _rotate(v, angle):
+    """Vectors (..., 2) turned counter-clockwise by ``angle`` (broadcast to v[..., 0])."""
+    c, s = np.cos(angle), np.sin(angle)
+    return np.stack([c * v[..., 0] - s * v[..., 1], s * v[..., 0] + c * v[..., 1]], axis=-1)
 
-    0 for xi <= -1, 0.5 at 0, 1 for xi >= 1: the fraction of a contact patch still on a
-    support whose edge is at ``xi`` half-widths from the patch centre.
+
+def _roller_forces(delta_r, psi, cm: ContactModel, spall: Spall | None, mode: str, turn=None):
+    """Force vectors (A, Z, 2) on the outer ring, normal forces at the inner contact
+    (A, Z) and elastic deflections (A, Z).
+
+    ``turn`` (A,): how far an inner-race spall has turned from where ``spall`` puts it,
+    rad; the supports are found in the spall's own frame and turned back.
     """
-    x = np.clip(np.asarray(xi, dtype=float), -1.0, 1.0)
-    return 0.5 + (x * np.sqrt(1.0 - x * x) + np.arcsin(x)) / np.pi
-
-
-def _corner_drop(delta_angle, r: float, r_o: float):
-    """Outward drop of a rigid roller centre pivoting on a raceway corner, m.
-
-    The corner is at radius ``r_o``; the roller centre is ``delta_angle`` (>= 0) past it.
-    |centre - corner| = r gives rho = r_o cos(d) - sqrt(r^2 - r_o^2 sin^2(d)); the drop is
-    measured from the healthy position r_o - r. Infinite where the roller cannot reach it.
-    """
-    s = r_o * np.sin(delta_angle)
-    with np.errstate(invalid="ignore"):
-        rho = r_o * np.cos(delta_angle) - np.sqrt(r * r - s * s)
-    return np.where((s < r) & (delta_angle < 0.5 * np.pi), rho - (r_o - r), np.inf)
-
-
-def _unit(angle):
-    """Outward unit vector at angles from 12 o'clock, counter-clockwise, (..., 2)."""
-    return np.stack([-np.sin(angle), np.cos(angle)], axis=-1)
-
-
-def _supports(psi, b, cm: ContactModel, spall: Spall | None, mode: str):
-    """Drops h, support fractions phi and force directions u of each roller's supports.
-
-    Returns arrays of shape (S, A, Z), (S, A, Z), (S, A, Z, 2).
-    """
-    radial = _unit(psi)
-    if spall is None:
-        return np.zeros((1, *psi.shape)), np.ones((1, *psi.shape)), radial[None]
-    if not spall.rectangular:
-        return _profile_supports(psi, b, cm, spall, mode)
-    r, r_o, depth = cm.roller_radius, cm.outer_raceway_radius, spall.depth
-    rel = wrap_angle(psi - spall.centre)
-    half = spall.half_angle
-    if mode == "step":
-        h = np.where(np.abs(rel) < half, depth, 0.0)
-        return h[None], np.ones((1, *psi.shape)), radial[None]
-
-    past_entry = rel + half  # angle the roller centre is past the entry edge
-    before_exit = half - rel  # angle before the exit edge
-
-    def edge_support(past, corner_angle):
-        # on the raceway up to the edge, then pivoting on the corner; never lower than the
-        # floor, which stops the rigid roller first (and a zero-depth spall is flat)
-        corner = _corner_drop(np.maximum(past, 0.0), r, r_o)
-        pivoting = (past > 0.0) & (corner < depth)
-        h = np.where(past <= 0.0, 0.0, np.minimum(corner, depth))
-        centre = (r_o - r + h)[..., None] * radial
-        to_corner = r_o * _unit(np.full_like(psi, corner_angle)) - centre
-        to_corner /= np.linalg.norm(to_corner, axis=-1, keepdims=True)
-        u = np.where(pivoting[..., None], to_corner, radial)
-        return h, u
-
-    h_a, u_a = edge_support(past_entry, spall.entry)
-    h_b, u_b = edge_support(before_exit, spall.exit)
-    # shares of the Hertz patch (centred on the roller's foot) over each support: they
-    # partition the patch, so a spall of zero depth is exactly the healthy raceway
-    below_entry = support_fraction(-r_o * past_entry / b)
-    below_exit = support_fraction(r_o * before_exit / b)
-    h = np.stack([h_a, np.full_like(psi, depth), h_b])
-    phi = np.stack([below_entry, below_exit - below_entry, 1.0 - below_exit])
-    u = np.stack([u_a, radial, u_b])
-    return h, phi, u
-
-
-def _profile_supports(psi, b, cm: ContactModel, spall: Spall, mode: str):
-    """:func:`_supports` for a spall with sloped walls or rounded edges.
-
-    The roller follows its rigid path over the profile (:mod:`taichi_bearing.roller_path`):
-    each support's drop is its first touch. Entry: the raceway before the edge and the
-    edge itself (corner, or rounded edge). Floor: the floor (drop = depth, as in the
-    rectangular model), the walls, and each edge that is not a sharp radial one, on which
-    the roller keeps pivoting after its patch has crossed the edge until it meets the wall
-    or the floor (a sharp radial edge is as in the rectangular model: the patch loses its
-    support as it crosses it). Exit: the edge and the raceway after it. The Hertz patch
-    is shared at the edges at the raceway as in the rectangular model, so a side with a
-    sharp radial wall behaves exactly as there. The "step" model drops the roller by the
-    profile's depth at its foot.
-    """
-    from taichi_bearing.roller_path import side_touch, wall_touch
-
-    r, r_o, depth = cm.roller_radius, cm.outer_raceway_radius, spall.depth
-    radial = _unit(psi)
-    # angles near the spall on one branch, from +x
-    phi = spall.centre + wrap_angle(psi - spall.centre) + 0.5 * np.pi
-    profile = spall.profile(r_o)
-    if mode == "step":
-        return profile.depth_at(phi)[None], np.ones((1, *psi.shape)), radial[None]
-    healthy = r_o - r
-
-    def support(touches):
-        rho = np.stack([t[0] for t in touches])
-        k = np.argmin(rho, axis=0)
-        rho = np.take_along_axis(rho, k[None], 0)[0]
-        contact = np.stack([np.broadcast_to(t[1], (*psi.shape, 2)) for t in touches])
-        contact = np.take_along_axis(contact, k[None, ..., None], 0)[0]
-        h = np.minimum(rho - healthy, depth)  # the floor stops the rigid roller first
-        centre = (healthy + h)[..., None] * radial
-        u = contact - centre
-        u /= np.maximum(np.linalg.norm(u, axis=-1, keepdims=True), 1e-300)
-        return h, np.where((h < depth)[..., None], u, radial)
-
-    right = 0.5 * np.pi
-    pivots = [
-        side_touch(phi, profile, r, start, False)
-        for start, slope in ((True, spall.entry_slope), (False, spall.exit_slope))
-        if not (abs(slope - right) < 1e-12 and spall.edge_radius == 0.0)
-    ]
-    e = np.stack([np.cos(phi), np.sin(phi)], axis=-1)
-    walls = [wall_touch(e, edge, r) for edge in (profile.start_edge, profile.end_edge)]
-    floor = (np.full(psi.shape, healthy + depth), (r_o + depth) * radial)
-    h_a, u_a = support([side_touch(phi, profile, r, True, True)])
-    h_b, u_b = support([floor, *walls, *pivots])
-    h_c, u_c = support([side_touch(phi, profile, r, False, True)])
-    rel = wrap_angle(psi - spall.centre)
-    half = spall.half_angle
-    below_entry = support_fraction(-r_o * (rel + half) / b)
-    below_exit = support_fraction(r_o * (half - rel) / b)
-    h = np.stack([h_a, h_b, h_c])
-    phi_k = np.stack([below_entry, below_exit - below_entry, 1.0 - below_exit])
-    return h, phi_k, np.stack([u_a, u_b, u_c])
-
-
-def _roller_forces(delta_r, psi, cm: ContactModel, spall: Spall | None, mode: str):
-    """Force vectors (A, Z, 2) on the outer ring, and elastic deflections (A, Z)."""
     n = cm.exponent
     approach = delta_r[:, None] * np.cos(psi) - 0.5 * cm.clearance
     k_n = cm.k_series
     q_healthy = k_n * np.maximum(approach, 0.0) ** n
-    # contact width the healthy patch would have, which sets how fast support is lost
+    # contact width the healthy patch would have on the spalled raceway, which sets how
+    # fast support is lost
+    race = "outer" if spall is None else spall.race
     b = np.maximum(
-        hertz_half_width(q_healthy, cm.roller_length, cm.outer_radius_eff, cm.e_star), 1e-9
+        hertz_half_width(q_healthy, cm.roller_length, cm.raceway(race)[1], cm.e_star), 1e-9
     )
-    h, phi, u = _supports(psi, b, cm, spall, mode)
+    if turn is None:
+        h, phi, u = spall_supports(psi, b, cm, spall, mode)
+    else:
+        h, phi, u = spall_supports(wrap_angle(psi - turn[:, None]), b, cm, spall, mode)
+        u = _rotate(u, turn[:, None])
     interference = np.maximum(approach[None] - h, 0.0)
     q = k_n * phi * interference**n
     force = np.sum(q[..., None] * u, axis=0)
+    radial = unit_from_top(psi)
+    if race == "outer":
+        inner = np.maximum(np.sum(force * radial, axis=-1), 0.0)
+    else:
+        # the force on the inner ring; the healthy outer contact carries its radial
+        # component (the cage pocket the tangential one while the roller pivots)
+        inner = np.linalg.norm(force, axis=-1)
+        force = np.maximum(-np.sum(force * radial, axis=-1), 0.0)[..., None] * radial
     # deflection of the support carrying most of the force (zero when nothing carries)
     main = np.argmax(q, axis=0)[None]
     deflection = np.where(
         np.max(q, axis=0) > 0.0, np.take_along_axis(interference, main, axis=0)[0], 0.0
     )
-    return force, deflection
+    return force, inner, deflection
 
 
 def solve_load_distribution(
@@ -388,6 +238,7 @@ def solve_load_distribution(
     cage_angles,
     spall: Spall | None = None,
     mode: str = "patch",
+    spall_angles=None,
 ) -> LoadDistribution:
     """Roller forces balancing a radial load, at each cage angle.
 
@@ -402,10 +253,14 @@ def solve_load_distribution(
     cage_angles : array_like
         Angle(s) of roller 0, rad from 12 o'clock, counter-clockwise.
     spall : Spall, optional
-        Outer-raceway spall; None for a healthy bearing.
+        Spall on the outer or the inner raceway; None for a healthy bearing.
     mode : {"patch", "step"}
         ``"patch"``: finite roller and contact width (gradual); ``"step"``: the roller
         drops by the full depth as soon as its contact point is over the notch.
+    spall_angles : array_like, optional
+        Angle of the spall's centre at each cage angle, rad from 12 o'clock (an
+        inner-race spall turns with the shaft, so its position relative to the rollers
+        changes with time: :func:`inner_passage_angles`); default: where ``spall`` is.
 
     Returns
     -------
@@ -417,9 +272,12 @@ def solve_load_distribution(
         raise ValueError(f"load must be a positive finite force in N, got {load!r}")
     cage = np.atleast_1d(np.asarray(cage_angles, dtype=float))
     psi = wrap_angle(cage[:, None] + 2.0 * np.pi / n_rollers * np.arange(n_rollers))
+    turn = None
+    if spall_angles is not None and spall is not None:
+        turn = np.broadcast_to(np.asarray(spall_angles, dtype=float), cage.shape) - spall.centre
 
     def residual(delta_r):
-        force, _ = _roller_forces(delta_r, psi, cm, spall, mode)
+        force, _, _ = _roller_forces(delta_r, psi, cm, spall, mode, turn)
         return force[..., 1].sum(axis=1) - load
 
     # bracket the ring displacement, then bisect to the last bit (robust: the vertical
@@ -445,10 +303,9 @@ def solve_load_distribution(
     f_lo, f_hi = residual(lo), residual(hi)
     delta_r = np.where(np.abs(f_lo) <= np.abs(f_hi), lo, hi)
 
-    force, deflection = _roller_forces(delta_r, psi, cm, spall, mode)
+    force, inner, deflection = _roller_forces(delta_r, psi, cm, spall, mode, turn)
     fx, fy = force[..., 0], force[..., 1]
     magnitude = np.hypot(fx, fy)
-    inner = np.maximum(np.sum(force * _unit(psi), axis=-1), 0.0)
     length = cm.roller_length
     return LoadDistribution(
         load=float(load),
@@ -464,6 +321,7 @@ def solve_load_distribution(
         inner_half_width=hertz_half_width(inner, length, cm.inner_radius_eff, cm.e_star),
         outer_pmax=hertz_peak_pressure(magnitude, length, cm.outer_radius_eff, cm.e_star),
         inner_pmax=hertz_peak_pressure(inner, length, cm.inner_radius_eff, cm.e_star),
+        spall_angle=None if turn is None else turn + spall.centre,
     )
 
 
@@ -479,28 +337,43 @@ def load_distribution_factor(dist: LoadDistribution, clearance: float) -> np.nda
 
 
 def solve_case(
-    case: Case, cage_angles, mode: str = "patch", healthy: bool = False
+    case: Case, cage_angles, mode: str = "patch", healthy: bool = False, spall_angles=None
 ) -> LoadDistribution:
     """Load distribution of a case at the given angles of roller 0 (rad).
 
-    ``healthy=True`` ignores the case's defect.
+    ``healthy=True`` ignores the case's defect; ``spall_angles``: where an inner-race
+    spall's centre is at each cage angle (default: where it starts, ``defect.angle``).
     """
     spall = None if healthy else spall_from_case(case)
     cm = contact_model(case.bearing, case.material)
     return solve_load_distribution(
-        cm, case.bearing.n_rollers, case.operating.load, cage_angles, spall, mode
+        cm, case.bearing.n_rollers, case.operating.load, cage_angles, spall, mode, spall_angles
     )
 
 
 def defect_sweep(
-    case: Case, n_angles: int = 2001, mode: str = "patch", span: float | None = None
+    case: Case,
+    n_angles: int = 2001,
+    mode: str = "patch",
+    span: float | None = None,
+    spall_angle: float | None = None,
 ) -> LoadDistribution:
     """Load distribution while roller 0 passes the spall.
 
     Roller 0 sweeps one roller pitch centred on the spall (so every roller position is
     covered once), ``n_angles`` equally spaced cage angles; ``span`` (rad) narrows it.
+    An inner-race spall turns with the shaft while roller 0 crosses it: the sweep covers
+    one pitch of their relative motion, the spall's centre at ``spall_angle`` (rad from
+    12 o'clock, default ``defect.angle``) when roller 0 is on it
+    (:func:`taichi_bearing.inner_race.passage_angles`).
     """
     spall = spall_from_case(case)
+    if spall is not None and spall.race == "inner":
+        from taichi_bearing.inner_race import passage_angles
+
+        centre = spall.centre if spall_angle is None else spall_angle
+        cage, at, _ = passage_angles(case, centre, n_angles, span)
+        return solve_case(case, cage, mode, spall_angles=at)
     centre = spall.centre if spall is not None else case.defect.angle
     pitch = 2.0 * np.pi / case.bearing.n_rollers if span is None else span
     angles = centre + np.linspace(-0.5 * pitch, 0.5 * pitch, n_angles)
@@ -511,7 +384,8 @@ def analytical_roller_forces(case: Case, cage_angle: float | None = None) -> np.
     """Outer contact force of each roller (N), spall included, for comparison with the
     finite element preload (``summary.json: analytical_roller_forces_N``).
 
-    Roller 0 sits at ``cage_angle`` (default ``case.run.first_roller_angle``).
+    Roller 0 sits at ``cage_angle`` (default ``case.run.first_roller_angle``); an
+    inner-race spall where it starts (the preload holds the shaft at angle 0).
     """
     angle = case.run.first_roller_angle if cage_angle is None else cage_angle
     return solve_case(case, angle).outer_force[0]

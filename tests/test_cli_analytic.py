@@ -130,7 +130,13 @@ def test_set_override_and_healthy_case(tmp_path, default_case_path):
 
 @pytest.mark.parametrize(
     "extra",
-    [["--set", "operating.load_kN=-5"], ["--set", "defect.race=inner"], ["--angles", "3"]],
+    [
+        ["--set", "operating.load_kN=-5"],
+        ["--spall-angles", "10"],  # an outer-race spall does not turn
+        ["--set", "defect.race=inner", "--spall-angles=-200"],
+        ["--set", "defect.race=inner", "--spall-angles", "ten"],
+        ["--angles", "3"],
+    ],
 )
 def test_bad_input_one_line_exit_2(tmp_path, default_case_path, extra):
     proc = _cli(str(default_case_path), "--out", str(tmp_path), *extra)

@@ -16,14 +16,9 @@ from taichi_bearing.mesh.bearing_mesh import build_bearing_mesh
 from taichi_bearing.mesh.grid import boundary_segments, chain_segments, signed_areas
 from taichi_bearing.mesh.quality import jacobian_determinants, mesh_statistics
 from taichi_bearing.mesh.spec import spec_from_case
-from taichi_bearing.quasistatic import (
-    _profile_supports,
-    _supports,
-    contact_model,
-    solve_load_distribution,
-    spall_from_case,
-)
+from taichi_bearing.quasistatic import contact_model, solve_load_distribution, spall_from_case
 from taichi_bearing.roller_path import centre_drop
+from taichi_bearing.spall_contact import _profile_supports, spall_supports
 from taichi_bearing.spall_profile import SpallProfile
 
 R, r = 0.112, 0.012  # outer raceway and roller radius of the default bearing, m
@@ -75,17 +70,19 @@ def test_profile_geometry():
     assert all(np.allclose(a, b, atol=1e-15) for a, b in ends)  # one continuous chain
 
 
-def brute_force_drop(profile: SpallProfile, phi: float) -> float:
-    """How far out a circle of radius r centred on the ray at ``phi`` can move before it
-    reaches the profile, by bisection on the distance to a fine polyline of the profile
-    with the raceway beyond it (no formula of roller_path)."""
+def brute_force_drop(profile: SpallProfile, phi: float, roller: float = r) -> float:
+    """How far a circle of radius ``roller`` centred on the ray at ``phi`` can move
+    towards the profile (out of an outer raceway, in onto an inner one) before it reaches
+    it, by bisection on the distance to a fine polyline of the profile with the raceway
+    beyond it (no formula of roller_path)."""
+    big, s = profile.raceway_radius, profile.sign
     a0 = math.atan2(*profile.pieces[0].p0[::-1])
     a1 = math.atan2(*profile.pieces[-1].p1[::-1])
     before = np.linspace(a0 - 0.2, a0, 4000)[:-1]
     after = np.linspace(a1, a1 + 0.2, 4000)[1:]
     pts = np.concatenate(
-        [R * np.stack([np.cos(before), np.sin(before)], 1), profile.polyline(4000),
-         R * np.stack([np.cos(after), np.sin(after)], 1)]
+        [big * np.stack([np.cos(before), np.sin(before)], 1), profile.polyline(4000),
+         big * np.stack([np.cos(after), np.sin(after)], 1)]
     )  # fmt: skip
     seg = np.diff(pts, axis=0)
     keep = np.einsum("ij,ij->i", seg, seg) > 0
@@ -95,13 +92,14 @@ def brute_force_drop(profile: SpallProfile, phi: float) -> float:
     def clearance(rho_c):
         c = rho_c * e
         t = np.clip(np.einsum("ij,ij->i", c - p0, seg) / np.einsum("ij,ij->i", seg, seg), 0, 1)
-        return np.min(np.hypot(*(p0 + t[:, None] * seg - c).T)) - r
+        return np.min(np.hypot(*(p0 + t[:, None] * seg - c).T)) - roller
 
-    lo, hi = R - r - 1e-4, R - r + profile.depth + 1e-4
+    healthy = big - s * roller
+    clear, blocked = healthy - s * 1e-4, healthy + s * (profile.depth + 1e-4)
     for _ in range(80):
-        mid = 0.5 * (lo + hi)
-        lo, hi = (mid, hi) if clearance(mid) > 0 else (lo, mid)
-    return lo - (R - r)
+        mid = 0.5 * (clear + blocked)
+        clear, blocked = (mid, blocked) if clearance(mid) > 0 else (clear, mid)
+    return s * (clear - healthy)
 
 
 @pytest.mark.parametrize("slope, rho", [(45, 0.0), (20, 0.0), (45, 0.002), (90, 0.0005)])
@@ -147,7 +145,7 @@ def test_profile_path_reproduces_the_rectangular_model(default_case):
     psi = np.linspace(-0.1, 0.1, 2001)[:, None] + np.array([0.0, 0.31])
     b = np.full(psi.shape, 1.5e-4)
     for mode in ("patch", "step"):
-        h0, phi0, u0 = _supports(psi, b, cm, spall, mode)
+        h0, phi0, u0 = spall_supports(psi, b, cm, spall, mode)
         h1, phi1, u1 = _profile_supports(psi, b, cm, spall, mode)
         finite = np.isfinite(h0)
         assert np.array_equal(finite, np.isfinite(h1))

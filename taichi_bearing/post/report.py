@@ -275,8 +275,9 @@ def _figure(figs: dict, run_dir: Path, name: str) -> list:
 
 
 def _passages(summary: dict, figs: dict, run_dir: Path) -> list:
+    from taichi_bearing.post.spall_report import interval_blocks, spall_blocks
+
     ev = passage_events(summary)
-    bpfo = summary.get("bpfo_hz")
     out: list = []
     if ev:
         rows = [
@@ -298,18 +299,10 @@ def _passages(summary: dict, figs: dict, run_dir: Path) -> list:
 
         out += distribution_blocks(summary, len(ev))  # the finding is the distribution
         exits = [e["exit_time_s"] for e in ev if math.isfinite(e["exit_time_s"])]
-        if len(exits) > 1 and bpfo:
-            period = 1.0 / float(bpfo)
-            gaps = [b - a for a, b in zip(exits[:-1], exits[1:], strict=True)]
-            out.append(
-                Para(
-                    "Time between consecutive re-stressing events: "
-                    + ", ".join(f"{fmt(1e3 * g)} ms ({_pct(g, period)})" for g in gaps)
-                    + f" against 1/BPFO = {fmt(1e3 * period)} ms (BPFO {fmt(bpfo)} Hz)."
-                )
-            )
+        out += interval_blocks(summary, exits)
     else:
         out.append(Para("No spall passage was recorded (summary.json events)."))
+    out += spall_blocks(summary, figs, run_dir)
     return out + _figure(figs, run_dir, "acceleration") + _figure(figs, run_dir, "contact_forces")
 
 

@@ -23,7 +23,6 @@ from matplotlib.figure import Figure
 
 from diagnostics import envelope_spectrum, kurtogram, notch_filter, psd
 from diagnostics import plots as dplots
-from diagnostics.diagnose import kurtogram_band
 from diagnostics.files import atomic_path, write_json
 from diagnostics.resolution import (
     choose_nlevel,
@@ -31,17 +30,21 @@ from diagnostics.resolution import (
     choose_sk_windows,
     third_octave_f_min,
 )
+from taichi_bearing.modulation import analysis_band
+from taichi_bearing.post.spall_figures import (
+    OVERLAP_FIGURE,
+    contact_forces,
+    deformed,
+    fault_rate,
+    load_sharing,
+    overlaps,
+)
 from taichi_bearing.run_folder import (
     FIGURES_DIR,
     FIGURES_INDEX_FILE,
-    FRAMES_DIR,
-    PVD_FILE,
-    RACES,
-    TIME_COLUMN,
     RunData,
     load_run,
     passage_events,
-    roller_force_column,
     sensor_acceleration,
 )
 
@@ -221,79 +224,6 @@ def _acceleration(run: RunData, x, label, marks) -> tuple[Figure, str, dict]:
     return fig, caption, values
 
 
-def _contact_forces(run: RunData) -> tuple[Figure, str, dict]:
-    ev = passage_events(run.summary)
-    rollers = [e["roller"] for e in ev if e["roller"] is not None]
-    rollers = list(dict.fromkeys(int(r) for r in rollers))
-    hist = run.histories
-    t_ms = 1e3 * hist[TIME_COLUMN].to_numpy(dtype=float)
-    named = bool(rollers)
-    if not named:
-        # No passage recorded: show the rollers whose outer force varies most.
-        ranges = []
-        for j in range(run.rollers):
-            col = roller_force_column(j, "outer", "fn")
-            if col in hist:
-                ranges.append((float(np.ptp(hist[col].to_numpy())), j))
-        rollers = sorted(j for _, j in sorted(ranges, reverse=True)[:3])
-    fig = Figure(figsize=(9.0, 6.5), layout="constrained")
-    axes = fig.subplots(2, 1, sharex=True)
-    values: dict = {}
-    for ax, race in zip(axes, RACES, strict=True):
-        for i, j in enumerate(rollers):
-            col = roller_force_column(j, race, "fn")
-            if col not in hist:
-                continue
-            colour = _ROLLER_COLOURS[i % len(_ROLLER_COLOURS)]
-            fn = hist[col].to_numpy(dtype=float) / 1e3
-            ax.plot(t_ms, fn, lw=0.8, color=colour, label=f"roller {j}")
-            for e in ev:
-                if e["roller"] is not None and int(e["roller"]) != j:
-                    continue
-                if math.isfinite(e["entry_time_s"]):
-                    ax.axvline(1e3 * e["entry_time_s"], color=colour, ls="--", lw=0.8)
-                if math.isfinite(e["exit_time_s"]):
-                    ax.axvline(1e3 * e["exit_time_s"], color=colour, ls="-", lw=0.8)
-                if e["roller"] is not None and race == "outer":
-                    values[f"roller{j}"] = _passage_numbers(t_ms / 1e3, fn * 1e3, e)
-        ax.set_ylabel(f"normal force on {race} raceway (kN)")
-        ax.set_title(f"{race} raceway")
-        ax.legend(loc="upper right", fontsize="small", ncol=2)
-    axes[-1].set_xlabel("time (ms)")
-    if named:
-        fig.suptitle("Contact force of each roller through the spall (dashed: entry, solid: exit)")
-    else:
-        fig.suptitle("No spall passage recorded: the rollers whose contact force varies most")
-    parts = []
-    for name, v in values.items():
-        parts.append(
-            f"{name}: {v['before_kN']:.3g} kN before entry, minimum {v['min_kN']:.3g} kN in "
-            f"the spall, peak {v['peak_after_exit_kN']:.3g} kN in the 1 ms after exit"
-        )
-    if named:
-        caption = "Normal contact force of each roller that crossed the spall. " + "; ".join(parts)
-    else:
-        caption = (
-            "No spall passage was recorded; normal contact forces of rollers "
-            + ", ".join(map(str, rollers))
-            + ", whose forces vary most."
-        )
-    return fig, caption, values
-
-
-def _passage_numbers(t: np.ndarray, fn: np.ndarray, e: dict) -> dict:
-    te, tx = e["entry_time_s"], e["exit_time_s"]
-    before = fn[(t < te) & (t >= te - 5e-4)]
-    inside = fn[(t >= te) & (t < tx)]
-    after = fn[(t >= tx) & (t < tx + 1e-3)]
-    pick = lambda a, f: float(f(a)) / 1e3 if a.size else math.nan  # noqa: E731
-    return {
-        "before_kN": pick(before, np.mean),
-        "min_kN": pick(inside, np.min),
-        "peak_after_exit_kN": pick(after, np.max),
-    }
-
-
 def _spectrogram(run, x, marks):
     nperseg = choose_nperseg(x.size)
     fig = dplots.plot_spectrogram(x, run.fs, _shown(marks), nperseg=nperseg)
@@ -343,47 +273,46 @@ def _kurtogram(run, x):
 
 
 def _envelope(run, x, kg):
-    fs, bpfo = run.fs, run.bpfo_hz
-    band, how = None, ""
-    if kg is not None:
-        found = kurtogram_band(kg, min_low_hz=fs / 16.0)
-        if found is not None:
-            band, how = found[0], "the kurtogram's best band above fs/16"
-    if band is None:
-        band, how = (fs / 8.0, 0.45 * fs), "fs/8 to 0.45 fs (no kurtogram)"
-    band = (max(band[0], 1e-3 * fs), min(band[1], 0.499 * fs))
+    fs = run.fs
+    name, rate = fault_rate(run.summary)
+    rate = float(rate)
+    band, how = analysis_band(kg, fs)
     f, amp = envelope_spectrum(x, fs, band=band)
     df = f[1] - f[0]
     n_harm = 5
     fig = dplots.plot_envelope_spectrum(
         f,
         amp,
-        {"BPFO": bpfo},
+        {name: rate},
         n_harmonics=n_harm,
         title=f"Squared envelope spectrum, band {band[0]:.0f}-{band[1]:.0f} Hz",
         ylabel="amplitude ((m/s^2)^2)",
     )
     _note(
         fig,
-        f"band: {how}; resolution {df:.3g} Hz = 1 / record length; BPFO "
-        f"{bpfo:.4g} Hz from summary.json",
+        f"band: {how}; resolution {df:.3g} Hz = 1 / record length; {name} "
+        f"{rate:.4g} Hz from summary.json",
     )
     levels = []
     for k in range(1, n_harm + 1):
-        if k * bpfo < f[-1]:
-            i = int(round(k * bpfo / df))
+        if k * rate < f[-1]:
+            i = int(round(k * rate / df))
             lo, hi = max(i - 1, 1), min(i + 2, f.size)
             levels.append(float(np.max(amp[lo:hi])))
-    shown = (f >= 0.5 * bpfo) & (f <= (n_harm + 0.5) * bpfo)
+    shown = (f >= 0.5 * rate) & (f <= (n_harm + 0.5) * rate)
     background = float(np.median(amp[shown])) if shown.any() else math.nan
     caption = (
-        f"Squared envelope spectrum in {band[0]:.0f}-{band[1]:.0f} Hz with BPFO = {bpfo:.4g} Hz "
-        f"and harmonics marked; resolution {df:.3g} Hz. Level at BPFO x1..{len(levels)} over "
-        f"the median: " + ", ".join(f"{v / background:.3g}" for v in levels) + "."
+        f"Squared envelope spectrum in {band[0]:.0f}-{band[1]:.0f} Hz with {name} = "
+        f"{rate:.4g} Hz and harmonics marked; resolution {df:.3g} Hz. Level at {name} "
+        f"x1..{len(levels)} over the median: "
+        + ", ".join(f"{v / background:.3g}" for v in levels)
+        + "."
     )
-    if df > 0.5 * bpfo:
+    if name == "BPFI":
+        caption += _mark_sidebands(fig, run.shaft_hz, rate, n_harm, df)
+    if df > 0.5 * rate:
         caption += (
-            f" The record ({1e3 / df:.3g} ms) is shorter than two BPFO periods: the "
+            f" The record ({1e3 / df:.3g} ms) is shorter than two {name} periods: the "
             "harmonics are not resolved and these levels say nothing about the fault."
         )
     return (
@@ -394,9 +323,29 @@ def _envelope(run, x, kg):
             "resolution_hz": df,
             "harmonic_levels": levels,
             "background": background,
-            "markers_hz": [k * bpfo for k in range(1, n_harm + 1)],
+            "markers_hz": [k * rate for k in range(1, n_harm + 1)],
         },
     )
+
+
+def _mark_sidebands(fig: Figure, shaft_hz: float, rate: float, n_harm: int, df: float) -> str:
+    """Dotted lines at the shaft-rate sidebands k BPFI +- f_s of an inner-race spall
+    (its impacts modulated by the load zone once per turn); what the caption adds."""
+    ax = fig.axes[0]
+    for k in range(1, n_harm + 1):
+        for sign in (-1.0, 1.0):
+            ax.axvline(
+                k * rate + sign * shaft_hz,
+                color="tab:gray",
+                ls=":",
+                lw=0.8,
+                label="BPFI harmonics +- shaft rate" if k == 1 and sign < 0 else None,
+            )
+    ax.legend(fontsize="small")
+    text = f" Dotted: the shaft-rate sidebands k BPFI +- {shaft_hz:.3g} Hz (the load zone"
+    if df > 0.5 * shaft_hz:
+        return text + "), not resolved at this resolution (a record of two shaft turns is)."
+    return text + ")."
 
 
 def _psd_notch(run, x):
@@ -468,57 +417,6 @@ def _third_octave(run, x):
     )
 
 
-def _deformed(run: RunData, path: Path) -> tuple[str, dict]:
-    from taichi_bearing.output.vtk import read_pvd
-    from taichi_bearing.post.deformed_render import render_spall_frame
-
-    pvd = run.run_dir / FRAMES_DIR / PVD_FILE
-    if not pvd.is_file():
-        raise FileNotFoundError(f"no {FRAMES_DIR}/{PVD_FILE} (output.frames off?)")
-    frames = read_pvd(pvd)
-    if not frames:
-        raise FileNotFoundError(f"{FRAMES_DIR}/{PVD_FILE} lists no frame")
-    time, name = frames[-1]
-    point, edges, half, text = _spall_view(run)
-    title = f"t = {1e3 * time:.3g} ms, {text}"
-    values = render_spall_frame(pvd.parent / name, path, point, half, edges, title=title)
-    values["time_s"] = time
-    caption = (
-        f"Deformed mesh around the spall at the last frame (t = {1e3 * time:.3g} ms), elastic "
-        f"displacement x{values['magnification']:g}, coloured by von Mises stress "
-        f"(max {values['max_von_mises_Pa'] / 1e6:.4g} MPa in view)."
-    )
-    return caption, values
-
-
-def _spall_view(run: RunData):
-    """Reference points of the spall centre and edges on the raceway, view half-height,
-    label."""
-    from taichi_bearing.case import parse_case
-
-    case = parse_case(run.case)
-    b, d = case.bearing, case.defect
-    if not d.present:
-        angle, race, length = 0.0, "outer", 0.0
-    else:
-        angle, race, length = d.angle, d.race, d.length
-    radius = b.outer_raceway_radius if race == "outer" else b.inner_raceway_radius
-    theta = 0.5 * math.pi + angle  # angles from 12 o'clock, counter-clockwise
-    half_span = 0.5 * length / radius
-
-    def at(a: float) -> tuple[float, float]:
-        return (radius * math.cos(a), radius * math.sin(a))
-
-    edges = (at(theta - half_span), at(theta + half_span)) if d.present else None
-    half = 0.5 * length + 1.2 * b.roller_radius
-    text = (
-        f"{race} raceway spall {1e3 * length:.3g} mm"
-        if d.present
-        else "healthy bearing: view at 12 o'clock"
-    )
-    return at(theta), edges, half, text
-
-
 # --------------------------------------------------------------------------- driver
 
 
@@ -539,9 +437,9 @@ def _builders(run: RunData, sensor: str | None) -> dict[str, Callable]:
             kg_holder["kg"] = kurtogram(x, run.fs, nlevel=choose_nlevel(x.size))
         return _envelope(run, x, kg_holder.get("kg"))
 
-    return {
+    builders = {
         "acceleration": lambda: _acceleration(run, x, label, marks),
-        "contact_forces": lambda: _contact_forces(run),
+        "contact_forces": lambda: contact_forces(run),
         "spectrogram": lambda: _spectrogram(run, x, marks),
         "spectral_kurtosis": lambda: _spectral_kurtosis(run, x),
         "kurtogram": kurto,
@@ -549,6 +447,9 @@ def _builders(run: RunData, sensor: str | None) -> dict[str, Callable]:
         "psd_notch": lambda: _psd_notch(run, x),
         "third_octave": lambda: _third_octave(run, x),
     }
+    if overlaps(passage_events(run.summary)):
+        builders[OVERLAP_FIGURE] = lambda: load_sharing(run)
+    return builders
 
 
 def draw_run_figure(
@@ -613,7 +514,7 @@ def make_run_figures(run_dir: str | os.PathLike, sensor: str | None = None) -> d
         meta["figures"][name] = entry
     path = out / "deformed_spall.png"
     try:
-        caption, values = _deformed(run, path)
+        caption, values = deformed(run, path)
         meta["figures"]["deformed_spall"] = {
             "file": path.name,
             "caption": caption,
