@@ -34,8 +34,14 @@ def atomic_path(path: str | os.PathLike) -> Iterator[Path]:
 
     Examples
     --------
-    >>> with atomic_path(out / "table.csv") as tmp:       # doctest: +SKIP
-    ...     frame.to_csv(tmp, index=False)
+    >>> import tempfile
+    >>> out = Path(tempfile.mkdtemp())
+    >>> with atomic_path(out / "tables" / "table.csv") as tmp:
+    ...     _ = tmp.write_text("f_hz,level_db")
+    >>> (out / "tables" / "table.csv").read_text()
+    'f_hz,level_db'
+    >>> sorted(p.name for p in (out / "tables").iterdir())   # no temporary file left
+    ['table.csv']
     """
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
@@ -161,7 +167,15 @@ def output_folder(value: str | os.PathLike, option: str = "--out") -> Path:
 
     Examples
     --------
-    >>> out = output_folder(args.out, "--out")      # doctest: +SKIP
+    >>> import tempfile
+    >>> base = Path(tempfile.mkdtemp())
+    >>> output_folder(base / "runs" / "cwru130", "--out").is_dir()
+    True
+    >>> open(base / "notes.txt", "w").close()
+    >>> output_folder(base / "notes.txt", "--out")  # doctest: +ELLIPSIS
+    Traceback (most recent call last):
+    ...
+    ValueError: --out: .../notes.txt exists and is not a folder
     """
     path = nonempty_path(value, option)
     try:

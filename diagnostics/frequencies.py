@@ -2,7 +2,7 @@
 
 Kinematics of a rolling element bearing with a stationary outer ring and a rotating inner
 ring, assuming pure rolling (no slip). With d the rolling element diameter, D the pitch
-diameter, alpha the contact angle and fr the shaft frequency:
+diameter, alpha the contact angle and fr the shaft frequency::
 
     FTF  = fr / 2 * (1 - d/D cos alpha)                 cage (fundamental train)
     BPFO = n fr / 2 * (1 - d/D cos alpha)               ball pass, outer race

@@ -120,9 +120,20 @@ def read_signal(path, channel=None, fs: float | None = None) -> Signal:
 
     Examples
     --------
-    >>> sig = read_signal("48k_Drive_End_IR007_0_109.mat")             # doctest: +SKIP
-    >>> sig.name, sig.fs, sig.meta["rpm"], sig.channel_names           # doctest: +SKIP
+    A file laid out as the CWRU data center's (a drive-end and a fan-end channel and the
+    speed in rpm; CWRU files hold no sampling rate, so ``fs`` is given):
+
+    >>> import os, tempfile
+    >>> import scipy.io
+    >>> path = os.path.join(tempfile.mkdtemp(), "48k_Drive_End_IR007_0_109.mat")
+    >>> noise = np.random.default_rng(0).standard_normal((4800, 2))
+    >>> scipy.io.savemat(path, {"X109_DE_time": noise[:, :1], "X109_FE_time": noise[:, 1:],
+    ...                         "X109RPM": 1797.0})
+    >>> sig = read_signal(path, fs=48000)
+    >>> sig.name, sig.fs, sig.meta["rpm"], sig.channel_names
     ('X109_DE_time', 48000.0, 1797.0, ['X109_DE_time', 'X109_FE_time'])
+    >>> sig.x.shape, sig.data.shape, sig.channel("X109_FE_time").shape
+    ((4800,), (2, 4800), (4800,))
     """
     path = Path(path)
     if path.is_dir():

@@ -3,9 +3,9 @@
 Gear meshes, shaft harmonics and electrical tones repeat exactly, so the record and a copy of
 itself delayed by more than the memory of its random part are coherent at their frequencies;
 the random part (and a bearing's impacts, whose spacing jitters with slip) is not. The
-transfer function from the delayed copy to the record, estimated over many blocks,
+transfer function from the delayed copy to the record, estimated over many blocks::
 
-    H(f) = sum_k X_k(f) conj(D_k(f)) / sum_k |D_k(f)|^2,
+    H(f) = sum_k X_k(f) conj(D_k(f)) / sum_k |D_k(f)|^2
 
 is close to 1 at the discrete frequencies and to 0 elsewhere. Filtering the record by H keeps
 the discrete part; the residual is the random part (Antoni and Randall 2004; used before

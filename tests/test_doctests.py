@@ -1,0 +1,70 @@
+"""The docstring examples of ``diagnostics`` run, on small data, with their printed output
+checked (none is skipped): ``doctest`` on every module of the package."""
+
+from __future__ import annotations
+
+import doctest
+import importlib
+import pkgutil
+
+import numpy as np
+import pytest
+
+import diagnostics
+
+MODULES = ["diagnostics"] + sorted(
+    f"diagnostics.{m.name}" for m in pkgutil.iter_modules(diagnostics.__path__)
+)
+FLAGS = doctest.ELLIPSIS | doctest.NORMALIZE_WHITESPACE
+
+
+@pytest.fixture(autouse=True)
+def _stable_printing():
+    """numpy's default print options, whatever an earlier test set; matplotlib off-screen."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    saved = np.get_printoptions()
+    np.set_printoptions(legacy=False, precision=8, suppress=False, linewidth=75)
+    yield
+    np.set_printoptions(**saved)
+
+
+def _tests(name: str) -> list[doctest.DocTest]:
+    module = importlib.import_module(name)
+    return [t for t in doctest.DocTestFinder().find(module, name) if t.examples]
+
+
+@pytest.mark.parametrize("name", MODULES)
+def test_docstring_examples(name, tmp_path, monkeypatch):
+    monkeypatch.chdir(tmp_path)  # an example that writes a file writes it here
+    runner = doctest.DocTestRunner(optionflags=FLAGS)
+    for test in _tests(name):
+        runner.run(test)
+    result = runner.summarize(verbose=False)
+    assert result.failed == 0, f"{result.failed} of {result.attempted} examples failed in {name}"
+
+
+def test_no_example_is_skipped():
+    """Every example runs: no ``+SKIP``, and the public modules have examples."""
+    skipped, counted = [], {}
+    for name in MODULES:
+        for test in _tests(name):
+            counted[name] = counted.get(name, 0) + len(test.examples)
+            skipped += [
+                f"{test.name}:{ex.lineno}" for ex in test.examples if ex.options.get(doctest.SKIP)
+            ]
+    assert not skipped, f"skipped examples: {skipped}"
+    documented = (
+        "diagnostics",
+        "diagnostics.diagnose",
+        "diagnostics.kurtosis",
+        "diagnostics.envelope",
+        "diagnostics.io",
+        "diagnostics.defect_size",
+        "diagnostics.frequencies",
+        "diagnostics.speed",
+        "diagnostics.spectral",
+    )
+    for name in documented:
+        assert counted.get(name, 0) > 0, f"{name} has no docstring example"
