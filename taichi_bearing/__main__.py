@@ -25,6 +25,7 @@ COMMANDS = {
     "convergence": "how each quantity changes over mesh or penalty levels, with its order",
     "post": "redo the checks, figures and report of a run folder (finished or not)",
     "compare": "a run's sensor acceleration against measured records, side by side",
+    "animate": "a GIF or MP4 of the spall region from a run's field frames (von Mises)",
 }
 
 
