@@ -29,6 +29,8 @@ name (constant)           content
                           (their captions and numbers, for the report).
 ``report.md``, ``.html``  :data:`REPORT_MD_FILE`, :data:`REPORT_HTML_FILE`.
 ``compare/``              :data:`COMPARE_DIR`: ``python -m taichi_bearing compare`` output.
+``animation.gif``         :data:`ANIMATION_FILES`: ``python -m taichi_bearing animate`` (or
+                          ``.mp4``).
 ========================  ==================================================================
 
 History columns (SI units): ``time_s``; per sensor ``<sensor>_ux|uy|vx|vy|ax|ay``; per
@@ -63,6 +65,7 @@ import pandas as pd
 import yaml
 
 __all__ = [
+    "ANIMATION_FILES",
     "AccelerationSignal",
     "BALANCE_COLUMN",
     "CAGE_COLUMNS",
@@ -129,6 +132,7 @@ FIGURES_INDEX_FILE = "figures.json"
 REPORT_MD_FILE = "report.md"
 REPORT_HTML_FILE = "report.html"
 COMPARE_DIR = "compare"
+ANIMATION_FILES = {"gif": "animation.gif", "mp4": "animation.mp4"}  # by format
 
 # preload.json entries written after the preload for the checks
 REFERENCE_KEY = "reference_roller_forces_N"
