@@ -84,16 +84,20 @@ sphinx_gallery_conf = {
     "capture_repr": ("__repr__",),
 }
 
+# Literal blocks without a language (docstring formulas, usage lines) are plain text.
+highlight_language = "none"
+
 # "--set" stays two hyphens in option help (no typographic dashes or quotes).
 smartquotes = False
 
 html_theme = "alabaster"
 html_title = "taichi-bearing"
-html_static_path: list[str] = []
+html_static_path = ["_static"]  # _static/custom.css: alabaster picks it up
 html_theme_options = {
     "description": "Roller bearing with a line spall: simulation and diagnostics",
     "fixed_sidebar": True,
-    "page_width": "1320px",
+    "page_width": "1400px",
+    "body_max_width": "none",
     "sidebar_width": "240px",
 }
 html_sidebars = {"**": ["about.html", "navigation.html", "relations.html", "searchbox.html"]}
