@@ -159,3 +159,29 @@ def test_run_finds_two_rollers_inside_and_the_others_carry_the_load(case, extend
     rest = np.delete(fy, [0, 19], axis=0)[:, both].sum(axis=0)
     assert np.mean(rest) == pytest.approx(case.operating.load, rel=0.05)
     assert summary["checks"]["defect_size"]["passed"] is None
+
+
+def test_the_report_shows_the_two_inside_unloaded_and_their_neighbours_taking_the_load(
+    case, extended_run
+):
+    """The report's load-sharing figure and table (post.spall_figures.load_sharing) over
+    the window in which rollers 0 and 19 are both inside: both carry little (their floor
+    bounces) against the ~10 kN the healthy bearing gives them, the quasi-static model
+    unloads them and balances the load, and the neighbours either side (rollers 18 and
+    1) take more than in the healthy bearing."""
+    from taichi_bearing.post.spall_figures import load_sharing
+    from taichi_bearing.run_folder import load_run
+
+    out, summary = extended_run
+    _, caption, values = load_sharing(load_run(out))
+    first, second = summary["events"]
+    assert values["rollers_inside"] == [0, 19]
+    assert values["window_s"] == [second["entry_time_s"], first["first_impact_time_s"]]
+    rows = {r["roller"]: r for r in values["rollers"]}
+    for j in (0, 19):
+        assert rows[j]["quasi_static_spall_N"] == 0.0
+        assert rows[j]["fe_N"] < 0.25 * rows[j]["quasi_static_healthy_N"]
+    for j in (18, 1):
+        assert rows[j]["quasi_static_spall_N"] > 1.3 * rows[j]["quasi_static_healthy_N"]
+        assert rows[j]["fe_N"] > 1.5 * rows[j]["quasi_static_healthy_N"]
+    assert "rollers 0 and 19 were both inside" in caption

@@ -10,6 +10,7 @@ passages repeat at is BPFO or BPFI (:func:`fault_rate`).
 from __future__ import annotations
 
 import math
+import warnings
 from pathlib import Path
 
 import numpy as np
@@ -41,6 +42,16 @@ _ROLLER_COLOURS = ("tab:blue", "tab:orange", "tab:green", "tab:purple", "tab:bro
 LOADED_SHARE = 0.05  # rollers shown in the load-sharing figure: this share of the largest
 
 
+def _run_case(run: RunData):
+    """The run's case, without the warnings it gave when the run was set up (an
+    extended spall's: the run and ``post`` have said it already)."""
+    from taichi_bearing.case import CaseWarning, parse_case
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", CaseWarning)
+        return parse_case(run.case)
+
+
 def spall_race(summary: dict) -> str:
     """The raceway with the spall: ``outer`` unless the summary says ``inner``."""
     return "inner" if summary.get("spall_race") == "inner" else "outer"
@@ -55,9 +66,9 @@ def fault_rate(summary: dict) -> tuple[str, float | None]:
 
 
 def overlaps(events: list[dict]) -> list[tuple[dict, dict]]:
-    """Pairs of passages with both rollers inside the spall at once: a later roller's
-    entry before an earlier one's exit (an extended spall, longer than the roller
-    spacing)."""
+    """Pairs of passages with both rollers inside the spall at once, both unloaded: a
+    later roller's entry before an earlier one's first touch of the exit edge (an
+    extended spall, longer than the roller spacing)."""
     ev = sorted(
         (e for e in events if math.isfinite(e["entry_time_s"]) and math.isfinite(e["exit_time_s"])),
         key=lambda e: e["entry_time_s"],
@@ -66,7 +77,7 @@ def overlaps(events: list[dict]) -> list[tuple[dict, dict]]:
         (a, b)
         for i, a in enumerate(ev)
         for b in ev[i + 1 :]
-        if b["roller"] != a["roller"] and b["entry_time_s"] < a["exit_time_s"]
+        if b["roller"] != a["roller"] and b["entry_time_s"] < _touch(a)
     ]
 
 
@@ -149,16 +160,23 @@ def _passage_numbers(t: np.ndarray, fn: np.ndarray, e: dict) -> dict:
     }
 
 
+def _touch(event: dict) -> float:
+    """When a passage's roller first touches the exit edge, s (its exit if not known)."""
+    touch = event.get("first_impact_time_s")
+    touch = math.nan if touch is None else float(touch)
+    return touch if math.isfinite(touch) else float(event["exit_time_s"])
+
+
 def load_sharing(run: RunData) -> tuple[Figure, str, dict]:
     """The rollers' forces while two are inside an extended spall.
 
     Top: the outer-raceway force of every roller that carries load, with the windows in
-    which two rollers are inside the spall shaded. Bottom, at the middle of the first
-    such window: each roller's force against the rigid-ring quasi-static model at the
-    same cage angle, with the spall (the two rollers in it unloaded, the rest sharing the
-    load) and without it.
+    which two rollers are inside the spall shaded (from the later one's entry to the
+    earlier one's first touch of the exit edge: both unloaded). Bottom, over the middle
+    half of the first such window: each roller's force against the rigid-ring
+    quasi-static model at the same cage angle, with the spall (the two rollers in it
+    unloaded, the rest sharing the load) and without it.
     """
-    from taichi_bearing.case import parse_case
     from taichi_bearing.quasistatic import solve_case
 
     pairs = overlaps(passage_events(run.summary))
@@ -171,21 +189,29 @@ def load_sharing(run: RunData) -> tuple[Figure, str, dict]:
         [hist[roller_force_column(j, race, "fn")].to_numpy(dtype=float) for j in range(run.rollers)]
     )
     peak = float(np.max(np.median(forces, axis=1)))
-    shown = [j for j in range(run.rollers) if np.max(forces[j]) > LOADED_SHARE * peak]
+    # the rollers in the load zone and those in the spall (outside the zone a roller's
+    # rattle against the raceways reaches a few kN at moments: its median is nil)
+    inside_any = {int(e["roller"]) for pair in pairs for e in pair}
+    shown = [
+        j
+        for j in range(run.rollers)
+        if np.median(forces[j]) > LOADED_SHARE * peak or j in inside_any
+    ]
     fig = Figure(figsize=(9.0, 7.5), layout="constrained")
     top, bottom = fig.subplots(2, 1)
     for i, j in enumerate(shown):
-        colour = _ROLLER_COLOURS[i % len(_ROLLER_COLOURS)] if i < 6 else None
-        top.plot(1e3 * t, forces[j] / 1e3, lw=0.8, color=colour, label=f"roller {j}")
+        # ten distinct colours: the load zone and the rollers in the spall, told apart
+        top.plot(1e3 * t, forces[j] / 1e3, lw=0.8, color=f"C{i % 10}", label=f"roller {j}")
     for a, b in pairs:
-        top.axvspan(1e3 * b["entry_time_s"], 1e3 * a["exit_time_s"], color="0.85", zorder=0)
+        top.axvspan(1e3 * b["entry_time_s"], 1e3 * _touch(a), color="0.85", zorder=0)
     top.set_xlabel("time (ms)")
     top.set_ylabel(f"normal force on {race} raceway (kN)")
     top.set_title("Rollers carrying load; shaded: two rollers inside the spall")
     top.legend(loc="upper right", fontsize="x-small", ncol=4)
 
     a, b = pairs[0]
-    t0, t1 = b["entry_time_s"], a["exit_time_s"]
+    # from the first touch of the exit edge the earlier roller takes load again
+    t0, t1 = b["entry_time_s"], _touch(a)
     mid = (t >= t0 + 0.25 * (t1 - t0)) & (t <= t1 - 0.25 * (t1 - t0))
     if not mid.any():
         mid = (t >= t0) & (t <= t1)
@@ -194,7 +220,7 @@ def load_sharing(run: RunData) -> tuple[Figure, str, dict]:
     angles = np.array(
         [float(hist[roller_motion_column(j, "angle_rad")].iloc[k]) for j in range(run.rollers)]
     )
-    case = parse_case(run.case)
+    case = _run_case(run)
     cage = float(angles[0])
     spalled = solve_case(case, cage).outer_force[0]
     healthy = solve_case(case, cage, healthy=True).outer_force[0]
@@ -266,9 +292,7 @@ def _spall_view(run: RunData):
     """Reference points of the spall centre and edges on the raceway (the render follows
     them with their ring: an inner-race spall turns with the shaft), view half-height,
     label."""
-    from taichi_bearing.case import parse_case
-
-    case = parse_case(run.case)
+    case = _run_case(run)
     b, d = case.bearing, case.defect
     if not d.present:
         angle, race, length = 0.0, "outer", 0.0

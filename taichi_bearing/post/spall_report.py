@@ -111,8 +111,10 @@ def _sharing(values: dict, summary: dict) -> list:
         if name in ("restress_interval", "exit_burst", "defect_size")
     )
     text = (
-        f"Extended spall: rollers {a} and {b} were both inside it from {fmt(1e3 * t0)} to "
-        f"{fmt(1e3 * t1)} ms. Each roller's force over the middle half of that window, "
+        f"Extended spall: rollers {a} and {b} were both inside it, neither touching its "
+        f"exit edge, from {fmt(1e3 * t0)} ms (roller {b}'s entry) to {fmt(1e3 * t1)} ms "
+        f"(roller {a}'s first touch of the exit edge). Each roller's force over the middle "
+        "half of that window, "
         "beside the rigid-ring quasi-static model at the same cage angle with the spall "
         "(both rollers in it unloaded, the rest sharing the load) and healthy. Each "
         "roller's own entry and exit are in the passage table above; the checks on the "
