@@ -27,7 +27,7 @@ from taichi_bearing.passage_study import (
     zone_edge_share,
 )
 from taichi_bearing.passages import PASSAGE_QUANTITIES
-from taichi_bearing.post.report import Table, report_blocks
+from taichi_bearing.post.report import Table, fmt, report_blocks
 from taichi_bearing.sweep import make_cells
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -124,6 +124,14 @@ def test_passages_collects_every_passage_and_reports_its_distribution(tmp_path, 
     report = (out / "passages_report.md").read_text()
     row = f"| exit / entry acceleration peak | - | {med:.4g} | {q25:.4g} to {q75:.4g} | 10 |"
     assert row in report
+    # the verdict first: what the rollers did, median and range over every passage
+    order = [report.index(h) for h in ("## Verdict", "## Each quantity over the passages",
+                                       "## Per passage", "## How it was made")]  # fmt: skip
+    assert order == sorted(order)
+    verdict = report[: report.index("## Each quantity")]
+    assert "10 passages from 4 of 4 runs finished." in verdict
+    rng = f"a median {fmt(med, 3)} (range {fmt(min(every), 3)} to {fmt(max(every), 3)})"
+    assert f"{rng} times that at entry" in verdict
     assert "data:image/png;base64" in (out / "passages_report.html").read_text()
     assert (out / "figures" / "passages.png").stat().st_size > 0
     assert "python -m taichi_bearing passages" in report

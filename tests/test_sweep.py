@@ -22,6 +22,7 @@ from diagnostics.envelope import envelope_spectrum
 from taichi_bearing.__main__ import main as cli
 from taichi_bearing.case import case_to_dict, load_case
 from taichi_bearing.errors import InputError
+from taichi_bearing.post.report import fmt
 from taichi_bearing.post.sweep_figures import write_sweep_outputs
 from taichi_bearing.sweep import (
     LOAD_KEY,
@@ -310,6 +311,52 @@ def test_grid_outputs_draw_each_metric_against_the_first_key(tmp_path):
     report = paths["report"].read_text()
     assert "# Sweep over penalty_scale x penalty_method" in report
     assert "one line per penalty_method" in report
+    # the verdict first: each quantity's range over the cells, where it is largest
+    order = [report.index(h) for h in ("## Verdict", "## Per-cell values", "## Figures",
+                                       "## Definitions")]  # fmt: skip
+    assert order == sorted(order)
+    verdict = report[: report.index("## Per-cell values")]
+    peaks = [r["restress_peak_N"] for r in rows]
+    assert (f"{CELL_METRICS['restress_peak_N'][0]}: {fmt(min(peaks))} to {fmt(max(peaks))} N, "
+            "largest at penalty_scale 1, penalty_method soft") in verdict  # fmt: skip
+    assert "data:image/png;base64" in paths["html"].read_text()
     for stem in ("envelope_bpfo", "outer_forces", "inner_forces"):
         assert (tmp_path / "figures" / f"sweep_{stem}.png").stat().st_size > 0
     assert "increase" not in paths
+
+
+def test_load_speed_report_leads_with_the_trends_and_names_a_failed_cell(tmp_path):
+    """Synthetic load x speed cells (no simulation): every quantity grows with load and
+    speed except the re-stressing peak at one cell; one cell failed."""
+    rows = []
+    for load in (25.0, 50.0):
+        for speed in (300.0, 800.0):
+            name = f"load_{load:g}kN_speed_{speed:g}rpm"
+            row = {"load_kN": load, "speed_rpm": speed, "status": "finished", "run_dir": name,
+                   "ran": True, "error": "", "n_passages": 2, "periods": 1.35}  # fmt: skip
+            row.update({k: load * speed for k in CELL_METRICS})
+            rows.append(row)
+    rows[3]["restress_peak_N"] = 1.0  # 50 kN, 800 rpm: below the others
+    rows[0].update(status="failed", error="exit status 1: boom")
+    paths = write_sweep_outputs(rows, tmp_path)
+    report = paths["report"].read_text()
+    order = [
+        report.index(h)
+        for h in (
+            "## Verdict",
+            "## Trends with load and speed",
+            "## Per-cell values",
+            "## Figures",
+            "## Definitions",
+        )
+    ]
+    assert order == sorted(order)
+    verdict = report[: report.index("## Trends")]
+    assert (
+        "4 cells, 3 finished, 1 failed. Failed: `load_25kN_speed_300rpm`: exit status 1" in verdict
+    )
+    label = CELL_METRICS["restress_peak_N"][0]
+    assert "10 of 12 quantity-axis pairs grow" in verdict
+    assert f"Not growing or not judged: {label} grows with load at 1 of 2 speeds" in verdict
+    assert f"{label} grows with speed at 1 of 2 loads" in verdict
+    assert paths["html"].is_file()

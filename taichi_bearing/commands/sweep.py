@@ -144,11 +144,17 @@ def main(args: argparse.Namespace) -> int:
     axes = _axes(args)
     out = study_folder(args, "sweep")
     _, results = run_study(args, axes, out, scale_duration=not args.fixed_duration)
+    from taichi_bearing.post.study_report import how_made_blocks
     from taichi_bearing.post.sweep_figures import write_sweep_outputs
     from taichi_bearing.sweep_metrics import summary_rows
 
     labels = list(column_labels(a.key for a in axes).values())
-    paths = write_sweep_outputs(summary_rows(results), out, labels)
+    options = [*(["--load-kN", args.loads] if args.loads is not None else []),
+               *(["--speed-rpm", args.speeds] if args.speeds is not None else []),
+               *(o for v in args.vary for o in ("--vary", v)),
+               *(["--fixed-duration"] if args.fixed_duration else [])]  # fmt: skip
+    how = how_made_blocks(command_text("sweep", args, options), args.case, args.overrides)
+    paths = write_sweep_outputs(summary_rows(results), out, labels, how)
     failed = report_failures(results)
     ran = sum(r.ran for r in results)
     print(f"{len(results)} cases ({ran} run, {len(results) - ran} already finished, "

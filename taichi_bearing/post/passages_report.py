@@ -1,6 +1,9 @@
 """Outputs of ``python -m taichi_bearing passages``: ``passages.csv`` (one row per
 passage), ``runs.csv`` (one per run), a box and strip plot of every passage quantity and
-``passages_report.md`` / ``.html`` with the median and interquartile range of each."""
+``passages_report.md`` / ``.html``, which leads with the verdict (what the rollers did at
+the spall's entry and exit: median and range over every passage, and the runs that did
+not finish), then the median and interquartile range of each quantity, the figure, the
+per-run and per-passage tables, and how the study was made."""
 
 from __future__ import annotations
 
@@ -144,15 +147,21 @@ def write_passages_outputs(
         "runs": write_csv(out / "runs.csv", runs),
         "figure": passages_figure(passages, out / "figures" / "passages.png"),
     }
+    from taichi_bearing.post.spall_report import passage_sentences
+
     stats = group_statistics(passages, runs)[None]
     n_runs = int((runs["status"] == "finished").sum()) if len(runs) else 0
-    blocks: list = [Heading(title, 1), Para(intro), *failed_blocks(results)]
+    blocks: list = [Heading(title, 1), Heading("Verdict", 2)]
+    words = passage_sentences(passages.to_dict("records"), "any finished run")
+    blocks.append(Para(f"{len(passages)} passages from {n_runs} of {len(runs)} runs "
+                       "finished. " + " ".join(words)))  # fmt: skip
+    blocks += [*failed_blocks(results), Para(intro)]
+    blocks += [Heading("Each quantity over the passages", 2)]
     blocks.append(
         Para(
-            f"{len(passages)} passages from {n_runs} finished runs. One passage is one "
-            "sample of a chaotic bounce (where the roller is in its radial flight when "
-            "the exit edge meets it), so the finding is each quantity's median and "
-            "interquartile range over the passages, never one passage's value."
+            "One passage is one sample of a chaotic bounce (where the roller is in its "
+            "radial flight when the exit edge meets it), so the finding is each quantity's "
+            "median and interquartile range over the passages, never one passage's value."
         )
     )
     blocks.append(statistics_table(stats, PASSAGE_QUANTITIES))

@@ -6,6 +6,13 @@ Every number comes from the run folder (:mod:`taichi_bearing.run_folder`): ``sum
 are missing). The report is built once as a list of blocks (headings, paragraphs, tables,
 figures) and rendered twice: Markdown with linked pictures, and a self-contained HTML page
 with the pictures inline as base64 data URIs (no dependency beyond the standard library).
+
+The report leads with what happened: the verdict (what the rollers did at the spall's
+entry and exit, with the numbers, and which checks failed;
+:func:`taichi_bearing.post.spall_report.verdict_blocks`), the checks table, the key
+figures (contact forces through the spall, the sensor acceleration with the events
+marked, the animation when the folder holds one), then the analyses (:data:`SECTIONS`);
+the mesh, the run's times and the case close it as an appendix (:data:`APPENDIX`).
 """
 
 from __future__ import annotations
@@ -31,21 +38,24 @@ from taichi_bearing.run_folder import (
     read_json,
 )
 
-__all__ = ["SECTIONS", "fmt", "report_blocks", "write_report"]
+__all__ = ["APPENDIX", "SECTIONS", "fmt", "report_blocks", "write_report"]
 
+# the report's sections (level 2), in order, then the appendix's (level 3)
 SECTIONS = (
-    "Case",
-    "Mesh",
-    "Stages and times",
-    "Static load distribution",
+    "Verdict",
     "Checks",
+    "Key figures",
     "Spall passages",
-    "Numerical noise and notch filters",
     "Spectral analysis",
     "Modes near the re-stressing band",
     "Defect size",
+    "Numerical noise and notch filters",
+    "Static load distribution",
     "Deformed mesh at the spall",
 )
+APPENDIX_TITLE = "Appendix: mesh, run and case"
+APPENDIX = ("Mesh", "Stages and times", "Case")
+KEY_FIGURES = ("contact_forces", "acceleration")
 
 
 def fmt(value, digits: int = 4) -> str:
@@ -262,9 +272,7 @@ def _checks(summary: dict) -> list:
                 str(c.get("note") or ""),
             ]
         )
-    n_fail = sum(1 for r in rows if r[3] == "FAIL")
-    verdict = f"{len(rows) - n_fail} of {len(rows)} checks pass."
-    return [Para(verdict), Table(["check", "value", "limit", "result", "note"], rows)]
+    return [Table(["check", "value", "limit", "result", "note"], rows)]
 
 
 def _figure(figs: dict, run_dir: Path, name: str) -> list:
@@ -302,8 +310,16 @@ def _passages(summary: dict, figs: dict, run_dir: Path) -> list:
         out += interval_blocks(summary, exits)
     else:
         out.append(Para("No spall passage was recorded (summary.json events)."))
-    out += spall_blocks(summary, figs, run_dir)
-    return out + _figure(figs, run_dir, "acceleration") + _figure(figs, run_dir, "contact_forces")
+    return out + spall_blocks(summary, figs, run_dir)
+
+
+def _key_figures(figs: dict, run_dir: Path) -> list:
+    """The contact forces through the spall and the sensor acceleration with the events
+    marked, and a link to the animation when the folder holds one."""
+    from taichi_bearing.post.animation import animation_note
+
+    out = [b for name in KEY_FIGURES for b in _figure(figs, run_dir, name)]
+    return out + [Para(n) for n in [animation_note(run_dir)] if n]
 
 
 def _noise(summary: dict, figs: dict, run_dir: Path) -> list:
@@ -361,7 +377,7 @@ def _noise(summary: dict, figs: dict, run_dir: Path) -> list:
 
 def _spectral(figs: dict, run_dir: Path) -> list:
     out: list = []
-    for name in ("spectrogram", "spectral_kurtosis", "kurtogram", "envelope_spectrum"):
+    for name in ("envelope_spectrum", "kurtogram", "spectral_kurtosis", "spectrogram"):
         out += _figure(figs, run_dir, name)
     return out + _figure(figs, run_dir, "third_octave")
 
@@ -440,8 +456,21 @@ def _partial_text(partial: dict) -> str:
     )
 
 
+def _record(meta: dict, summary: dict) -> str:
+    """The time the analysed signal covers, in words (for a run without a passage)."""
+    n, fs = meta.get("n_samples"), meta.get("fs_hz")
+    if isinstance(n, (int, float)) and isinstance(fs, (int, float)) and fs > 0 and n > 0:
+        return f"the {fmt(1e3 * n / fs, 3)} ms recorded"
+    until = (summary.get("partial") or {}).get("recorded_until_s")
+    return f"the {fmt(1e3 * until, 3)} ms recorded" if until is not None else "the record"
+
+
 def report_blocks(run_dir: str | os.PathLike) -> list:
-    """The report as a list of blocks (Heading, Para, Table, Image), in order."""
+    """The report as a list of blocks (Heading, Para, Table, Image), in order: the
+    verdict, the checks, the key figures, the analyses (:data:`SECTIONS`), then the
+    appendix (:data:`APPENDIX`)."""
+    from taichi_bearing.post.spall_report import verdict_blocks
+
     run_dir = Path(run_dir)
     summary = read_json(run_dir / SUMMARY_FILE)
     case = read_case_dict(run_dir)
@@ -461,27 +490,37 @@ def report_blocks(run_dir: str | os.PathLike) -> list:
             "Every number below is read from the run folder."
         ),
     ]
+    verdict: list = []
     partial = summary.get("partial")
     if partial:
-        blocks.append(Para(_partial_text(partial)))
+        verdict.append(Para(_partial_text(partial)))
+    verdict += verdict_blocks(summary, figs, _record(meta, summary))
     if summary.get("missing_keys"):
-        blocks.append(Para(f"summary.json lacks: {', '.join(summary['missing_keys'])}."))
+        verdict.append(Para(f"summary.json lacks: {', '.join(summary['missing_keys'])}."))
     sections = {
-        "Case": _case(case),
-        "Mesh": _mesh(summary, run_dir, case, figs),
-        "Stages and times": _stages(summary),
-        "Static load distribution": _static(summary),
+        "Verdict": verdict,
         "Checks": _checks(summary),
+        "Key figures": _key_figures(figs, run_dir),
         "Spall passages": _passages(summary, figs, run_dir),
-        "Numerical noise and notch filters": _noise(summary, figs, run_dir),
         "Spectral analysis": _spectral(figs, run_dir),
         "Modes near the re-stressing band": _modes(run_dir, figs),
         "Defect size": _defect(summary),
+        "Numerical noise and notch filters": _noise(summary, figs, run_dir),
+        "Static load distribution": _static(summary),
         "Deformed mesh at the spall": _figure(figs, run_dir, "deformed_spall"),
     }
     for title in SECTIONS:
         blocks.append(Heading(title, 2))
         blocks += sections[title]
+    appendix = {
+        "Mesh": _mesh(summary, run_dir, case, figs),
+        "Stages and times": _stages(summary),
+        "Case": _case(case),
+    }
+    blocks.append(Heading(APPENDIX_TITLE, 2))
+    for title in APPENDIX:
+        blocks.append(Heading(title, 3))
+        blocks += appendix[title]
     return blocks
 
 
@@ -519,7 +558,14 @@ _CSS = (
 
 
 def _inline(text: str) -> str:
-    return re.sub(r"`([^`]*)`", r"<code>\1</code>", html.escape(text))
+    """Escaped text with Markdown's inline code and links as HTML (``[text](href)`` as
+    an ``<a>``)."""
+    out = re.sub(r"`([^`]*)`", r"<code>\1</code>", html.escape(text, quote=False))
+    return re.sub(
+        r"\[([^\]]+)\]\(([^)\s]+)\)",
+        lambda m: f'<a href="{m[2].replace(chr(34), "&quot;")}">{m[1]}</a>',
+        out,
+    )
 
 
 def to_html(blocks: list) -> str:
@@ -537,8 +583,7 @@ def to_html(blocks: list) -> str:
         elif isinstance(b, Table):
             head = "".join(f"<th>{html.escape(h)}</th>" for h in b.header)
             body = "".join(
-                "<tr>" + "".join(f"<td>{html.escape(c)}</td>" for c in row) + "</tr>"
-                for row in b.rows
+                "<tr>" + "".join(f"<td>{_inline(c)}</td>" for c in row) + "</tr>" for row in b.rows
             )
             parts.append(f"<table><tr>{head}</tr>{body}</table>")
         elif isinstance(b, Image):

@@ -1,5 +1,9 @@
 """Sweep outputs: ``sweep_summary.csv`` (a column per varied key), figures and
-``sweep_report.md``, all computed from the per-cell rows (nothing typed in).
+``sweep_report.md`` / ``.html``, all computed from the per-cell rows (nothing typed in).
+The report leads with the verdict (cells finished and failed; for a load x speed sweep
+whether each quantity grows with load and with speed, for any other grid each quantity's
+range over the cells and where it is largest), then the tables and figures, and closes
+with the quantities' definitions and how the sweep was made.
 
 A load x speed sweep (the varied keys are ``operating.load_kN`` and
 ``operating.speed_rpm``) also gets percentage-increase tables and trend sentences: for
@@ -18,8 +22,9 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-from diagnostics.files import atomic_path
 from taichi_bearing.passages import EXIT_BURST_S
+from taichi_bearing.post.report import Heading, Image, Para, Table, fmt
+from taichi_bearing.post.study_report import save_figure, write_csv, write_report_files
 from taichi_bearing.sweep_metrics import METRICS, WINDOW_S
 
 __all__ = ["LOAD_SPEED", "increase_table", "trend_sentence", "write_sweep_outputs"]
@@ -41,16 +46,6 @@ GROUPS = {
     "outer_forces": ("outer_peak_N", "outer_env_max_N", "restress_peak_N"),
     "inner_forces": ("inner_peak_N", "inner_env_max_N"),
 }
-
-
-def _write_text(path: Path, text: str) -> None:
-    with atomic_path(path) as tmp:
-        Path(tmp).write_text(text)
-
-
-def _write_csv(path: Path, df: pd.DataFrame) -> None:
-    with atomic_path(path) as tmp:
-        df.to_csv(tmp, index=False)
 
 
 def increase_table(df: pd.DataFrame, key: str, axis: str) -> pd.DataFrame:
@@ -101,7 +96,6 @@ def trend_sentence(df: pd.DataFrame, key: str, axis: str) -> tuple[str, bool | N
     """
     label, unit = METRICS[key]
     name, aunit = AXES[axis]
-    tab = increase_table(df, key, axis)
     other = "speed_rpm" if axis == "load_kN" else "load_kN"
     oname, ounit = AXES[other]
     grid = df.pivot_table(index=other, columns=axis, values=key, aggfunc="first", dropna=False)
@@ -117,7 +111,7 @@ def trend_sentence(df: pd.DataFrame, key: str, axis: str) -> tuple[str, bool | N
         shape = "rising" if rising else "falling" if np.all(np.diff(v) < 0) else "not monotonic"
         verdicts.append(rising)
         cols = [c for c, good in zip(grid.columns, ok, strict=True) if good]
-        pct = tab.loc[o, cols[-1]]
+        pct = 100.0 * (v[-1] / v[0] - 1.0) if v[0] else math.nan  # from the first finite
         parts.append(
             f"at {o:g} {ounit}: {v[0]:.4g} -> {v[-1]:.4g} {unit} from {cols[0]:g} to "
             f"{cols[-1]:g} {aunit} ({pct:+.1f} %, {shape} over {ok.sum()} "
@@ -177,7 +171,7 @@ def _group_figures(df: pd.DataFrame, panels: Sequence[tuple[str, list[str]]], fi
                 _plot_lines(df, key, axis, others, axes[i][k])
                 axes[i][k].set_title(f"{METRICS[key][0]}", fontsize=8)
         fig.tight_layout()
-        written.append(_save(fig, fig_dir / f"sweep_{stem}.png", plt))
+        written.append(save_figure(fig, fig_dir / f"sweep_{stem}.png"))
     return written
 
 
@@ -206,88 +200,12 @@ def make_figures(df: pd.DataFrame, fig_dir: Path) -> list[Path]:
             tab.auto_set_font_size(False)
             tab.set_fontsize(7)
     fig.tight_layout()
-    written.append(_save(fig, fig_dir / "sweep_increase_tables.png", plt))
+    written.append(save_figure(fig, fig_dir / "sweep_increase_tables.png"))
     return written
-
-
-def _save(fig, path: Path, plt) -> Path:
-    with atomic_path(path) as tmp:
-        fig.savefig(tmp, dpi=110, format="png")
-    plt.close(fig)
-    return path
 
 
 def _pct(v: float) -> str:
     return "n/a" if not math.isfinite(v) else f"{v:+.1f}"
-
-
-def _markdown(df: pd.DataFrame, digits: int = 4) -> str:
-    cols = list(df.columns)
-    out = ["| " + " | ".join(str(c) for c in cols) + " |", "|" + "---|" * len(cols)]
-    for row in df.itertuples(index=False):
-        cells = []
-        for v in row:
-            if isinstance(v, float):
-                cells.append("n/a" if not math.isfinite(v) else f"{v:.{digits}g}")
-            else:
-                cells.append(str(v))
-        out.append("| " + " | ".join(cells) + " |")
-    return "\n".join(out)
-
-
-def _report(df: pd.DataFrame, figures: list[Path], out: Path) -> str:
-    lines = ["# Load x speed sweep", ""]
-    n_fin = int((df["status"] == "finished").sum())
-    lines += [f"{len(df)} cells, {n_fin} finished, {len(df) - n_fin} failed.", ""]
-    failed = df[df["status"] != "finished"]
-    for r in failed.itertuples():
-        lines.append(f"- FAILED {r.run_dir}: {r.error}")
-    if len(failed):
-        lines.append("")
-    periods = df["periods"].dropna()
-    if len(periods):
-        lines += [
-            f"Records hold {periods.min():.3g} to {periods.max():.3g} BPFO periods; "
-            + ("below one period the BPFO level is a zero-padded reading, not a resolved "
-               "spectral line." if periods.min() < 1 else "the BPFO line is resolved."),
-            "",
-        ]  # fmt: skip
-    w = WINDOW_S * 1e3
-    lines += ["Quantities (each run's files; forces of the rollers in `summary.json` events):", ""]
-    lines += [f"- `{k}`: {label} ({unit})" for k, (label, unit) in METRICS.items()]
-    lines += [
-        "",
-        f"Passage window: entry minus {w:g} ms to re-stressing plus {w:g} ms; re-stressing "
-        f"burst: the first {max(w, EXIT_BURST_S * 1e3):g} ms after the first impact on the "
-        "exit edge, either raceway; envelope: Hilbert envelope of the force minus its median "
-        "before the window; envelope spectrum at BPFO over the last whole BPFO periods of "
-        "the record.",
-        "",
-        "## Does the model agree with the study?",
-        "",
-    ]
-    lines += ["The study found that the re-stressing impulses and contact forces grow with "
-              "load and with speed. From these runs:", ""]  # fmt: skip
-    for key in TREND_KEYS:
-        for axis in AXES:
-            sentence, _ = trend_sentence(df, key, axis)
-            lines.append(f"- {sentence}")
-    lines += ["", "## Per-cell values", ""]
-    show = ["load_kN", "speed_rpm", "status", "n_passages", *TREND_KEYS, "static_outer_N"]
-    lines += [_markdown(df[show]), ""]
-    for axis in AXES:
-        lines += [f"## Increase relative to the lowest {AXES[axis][0]} (%)", ""]
-        for key in TREND_KEYS:
-            tab = increase_table(df, key, axis)
-            other = "speed_rpm" if axis == "load_kN" else "load_kN"
-            tab.index = pd.Index([f"{v:g}" for v in tab.index], name=f"{other} \\ {axis}")
-            tab.columns = [f"{c:g}" for c in tab.columns]
-            tab = tab.reset_index()
-            lines += [f"{METRICS[key][0]} (`{key}`), rows: the other axis", "",
-                      _markdown(tab, 3), ""]  # fmt: skip
-    lines += ["## Figures", ""]
-    lines += [f"![{p.stem}]({os.path.relpath(p, out)})" for p in figures]
-    return "\n".join(lines) + "\n"
 
 
 def make_grid_figures(df: pd.DataFrame, axes: Sequence[str], fig_dir: Path) -> list[Path]:
@@ -301,36 +219,141 @@ def make_grid_figures(df: pd.DataFrame, axes: Sequence[str], fig_dir: Path) -> l
     return _group_figures(df, [(axes[0], list(axes[1:]))], fig_dir, plt)
 
 
-def _grid_report(df: pd.DataFrame, axes: Sequence[str], figures: list[Path], out: Path) -> str:
-    lines = [f"# Sweep over {' x '.join(axes)}", ""]
+def _table(df: pd.DataFrame, digits: int = 4) -> Table:
+    """A DataFrame as a report table ('-' for a missing number)."""
+    rows = [[fmt(v, digits) if isinstance(v, float) else str(v) for v in row]
+            for row in df.itertuples(index=False)]  # fmt: skip
+    return Table([str(c) for c in df.columns], rows)
+
+
+def _cell_name(row: pd.Series, axes: Sequence[str]) -> str:
+    return ", ".join(f"{a} {fmt(row[a]) if isinstance(row[a], float) else row[a]}" for a in axes)
+
+
+def _status_blocks(df: pd.DataFrame) -> list:
     n_fin = int((df["status"] == "finished").sum())
-    lines += [f"{len(df)} cells, {n_fin} finished, {len(df) - n_fin} failed.", ""]
-    lines += [
-        f"- FAILED {r.run_dir}: {r.error}" for r in df[df["status"] != "finished"].itertuples()
+    text = f"{len(df)} cells, {n_fin} finished, {len(df) - n_fin} failed."
+    failed = df[df["status"] != "finished"]
+    if len(failed):
+        text += " Failed: " + "; ".join(f"`{r.run_dir}`: {r.error}" for r in failed.itertuples())
+        text += "."
+    return [Para(text)]
+
+
+def _trend_blocks(df: pd.DataFrame) -> tuple[list, list]:
+    """Whether each quantity grows with load and with speed (load x speed sweep): the
+    verdict's count, naming each pair that does not, and the sentences with the numbers."""
+    found = [trend_sentence(df, key, axis) for key in TREND_KEYS for axis in AXES]
+    grows = [v for _, v in found]
+    text = (
+        "The study found that the re-stressing impulses and contact forces grow with load "
+        f"and with speed. From these runs, {grows.count(True)} of {len(found)} quantity-axis "
+        f"pairs grow at every value of the other axis, {grows.count(False)} do not, "
+        f"{grows.count(None)} cannot be judged (fewer than two finished cells on a line)."
+    )
+    exceptions = [sentence.split(": ", 1)[0] for sentence, v in found if v is not True]
+    if exceptions:
+        text += " Not growing or not judged: " + "; ".join(exceptions) + "."
+    periods = df["periods"].dropna() if "periods" in df else pd.Series(dtype=float)
+    if len(periods):
+        text += (
+            f" Records hold {periods.min():.3g} to {periods.max():.3g} BPFO periods; "
+            + ("below one period the BPFO level is a zero-padded reading, not a resolved "
+               "spectral line." if periods.min() < 1 else "the BPFO line is resolved.")
+        )  # fmt: skip
+    details = [Heading("Trends with load and speed", 2)]
+    return [Para(text)], details + [Para(sentence) for sentence, _ in found]
+
+
+def _range_blocks(df: pd.DataFrame, axes: Sequence[str]) -> list:
+    """Each quantity's range over the finished cells and the cell where it is largest."""
+    done = df[df["status"] == "finished"]
+    parts = []
+    for key in TREND_KEYS:
+        v = pd.to_numeric(done[key], errors="coerce") if key in done else pd.Series(dtype=float)
+        if not v.notna().any():
+            parts.append(f"{METRICS[key][0]}: unknown (no finished cell has it)")
+            continue
+        top = done.loc[v.idxmax()]
+        parts.append(f"{METRICS[key][0]}: {fmt(v.min())} to {fmt(v.max())} {METRICS[key][1]}, "
+                     f"largest at {_cell_name(top, axes)}")  # fmt: skip
+    return [Para("Over the finished cells: " + "; ".join(parts) + ".")]
+
+
+def _increase_blocks(df: pd.DataFrame) -> list:
+    out: list = []
+    for axis in AXES:
+        out.append(Heading(f"Increase relative to the lowest {AXES[axis][0]} (%)", 2))
+        for key in TREND_KEYS:
+            tab = increase_table(df, key, axis)
+            other = "speed_rpm" if axis == "load_kN" else "load_kN"
+            tab.index = pd.Index([f"{v:g}" for v in tab.index], name=f"{other} \\ {axis}")
+            tab.columns = [f"{c:g}" for c in tab.columns]
+            out += [Para(f"{METRICS[key][0]} (`{key}`), rows: the other axis"),
+                    _table(tab.reset_index(), 3)]  # fmt: skip
+    return out
+
+
+def _definition_blocks(load_speed: bool) -> list:
+    w = WINDOW_S * 1e3
+    out: list = [
+        Heading("Definitions", 2),
+        Para("Quantities (each run's files; forces of the rollers in `summary.json` events):"),
+        Table(
+            ["column", "quantity", "unit"],
+            [[k, label, unit] for k, (label, unit) in METRICS.items()],
+        ),  # fmt: skip
     ]
-    lines += [
-        "",
-        "Quantities (each run's files; forces of the rollers in `summary.json` events):",
-        "",
-    ]
-    lines += [f"- `{k}`: {label} ({unit})" for k, (label, unit) in METRICS.items()]
-    lines += ["", "## Per-cell values", ""]
-    show = [*axes, "status", "n_passages", *TREND_KEYS, "static_outer_N"]
-    lines += [_markdown(df[show]), "", "## Figures", ""]
-    lines += [
-        f"Each quantity against {axes[0]}"
-        + (f", one line per {' and '.join(axes[1:])}." if len(axes) > 1 else "."),
-        "",
-    ]
-    lines += [f"![{p.stem}]({os.path.relpath(p, out)})" for p in figures]
-    return "\n".join(lines) + "\n"
+    if load_speed:
+        out.append(Para(
+            f"Passage window: entry minus {w:g} ms to re-stressing plus {w:g} ms; re-stressing "
+            f"burst: the first {max(w, EXIT_BURST_S * 1e3):g} ms after the first impact on "
+            "the exit edge, either raceway; envelope: Hilbert envelope of the force minus its "
+            "median before the window; envelope spectrum at BPFO over the last whole BPFO "
+            "periods of the record."
+        ))  # fmt: skip
+    return out
+
+
+_CAPTIONS = {
+    "sweep_envelope_bpfo": "Squared-envelope spectrum level at BPFO",
+    "sweep_outer_forces": "Outer-raceway force peak and envelope maximum, and the re-stressing "
+    "burst peak, of the rollers through the spall",
+    "sweep_inner_forces": "Inner-raceway force peak and envelope maximum",
+    "sweep_increase_tables": "The increase tables above as a figure",
+}
+
+
+def _report_blocks(df: pd.DataFrame, axes: Sequence[str], figures: list[Path],
+                   load_speed: bool, how: Sequence = ()) -> list:  # fmt: skip
+    """The sweep report: the verdict, the per-cell table (and, for load x speed, the
+    increase tables), the figures, then the definitions and how it was made."""
+    title = "Load x speed sweep" if load_speed else f"Sweep over {' x '.join(axes)}"
+    blocks: list = [Heading(title, 1), Heading("Verdict", 2), *_status_blocks(df)]
+    verdict, trends = _trend_blocks(df) if load_speed else (_range_blocks(df, axes), [])
+    show = [*(LOAD_SPEED if load_speed else axes), "status", "n_passages", *TREND_KEYS,
+            "static_outer_N"]  # fmt: skip
+    blocks += [*verdict, *trends, Heading("Per-cell values", 2), _table(df[show])]
+    if load_speed:
+        blocks += _increase_blocks(df)
+        against = "load and against speed, one line per value of the other"
+    else:
+        against = axes[0] + (f", one line per {' and '.join(axes[1:])}" if len(axes) > 1 else "")
+    blocks.append(Heading("Figures", 2))
+    blocks += [Image(p, f"{_CAPTIONS.get(p.stem, p.stem)}: each quantity against {against}."
+                     if p.stem != "sweep_increase_tables" else _CAPTIONS[p.stem])
+               for p in figures]  # fmt: skip
+    return blocks + _definition_blocks(load_speed) + list(how)
 
 
 def write_sweep_outputs(
-    rows: list[dict], out_dir: str | os.PathLike, axes: Sequence[str] = LOAD_SPEED
+    rows: list[dict],
+    out_dir: str | os.PathLike,
+    axes: Sequence[str] = LOAD_SPEED,
+    how: Sequence = (),
 ) -> dict[str, Path]:
-    """Write ``sweep_summary.csv``, figures and ``sweep_report.md`` (and, for a load x
-    speed sweep, ``sweep_increase.csv``).
+    """Write ``sweep_summary.csv``, figures and ``sweep_report.md`` / ``.html`` (and, for a
+    load x speed sweep, ``sweep_increase.csv``).
 
     Parameters
     ----------
@@ -339,6 +362,8 @@ def write_sweep_outputs(
     out_dir : path
     axes : sequence of str
         The varied keys' columns, in the order of the grid.
+    how : sequence of blocks
+        The closing section (:func:`~taichi_bearing.post.study_report.how_made_blocks`).
 
     Returns
     -------
@@ -351,15 +376,12 @@ def write_sweep_outputs(
     load_speed = sorted(axes) == sorted(LOAD_SPEED)
     order = list(LOAD_SPEED) if load_speed else axes
     df = pd.DataFrame(rows).sort_values(order).reset_index(drop=True)
-    paths = {"summary": out / "sweep_summary.csv"}
-    _write_csv(paths["summary"], df)
-    paths["report"] = out / "sweep_report.md"
+    paths = {"summary": write_csv(out / "sweep_summary.csv", df)}
     if load_speed:
-        paths["increase"] = out / "sweep_increase.csv"
-        _write_csv(paths["increase"], _increase_long(df))
+        paths["increase"] = write_csv(out / "sweep_increase.csv", _increase_long(df))
         figures = make_figures(df, out / "figures")
-        _write_text(paths["report"], _report(df, figures, out))
     else:
         figures = make_grid_figures(df, axes, out / "figures")
-        _write_text(paths["report"], _grid_report(df, axes, figures, out))
+    blocks = _report_blocks(df, axes, figures, load_speed, how)
+    paths["report"], paths["html"] = write_report_files(blocks, out / "sweep_report.md")
     return paths
