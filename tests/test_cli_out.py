@@ -34,6 +34,26 @@ def _run(cwd: Path, module: str, *args: str) -> subprocess.CompletedProcess:
     )
 
 
+def _run_here(cwd: Path, module: str, *args: str, monkeypatch) -> subprocess.CompletedProcess:
+    """As :func:`_run`, but calling the command's ``main`` in this process (no interpreter
+    start-up and imports per case); an exception escaping ``main`` fails the test as a
+    traceback would."""
+    import contextlib
+    import importlib
+    import io
+
+    main = importlib.import_module(f"{module}.__main__").main
+    monkeypatch.chdir(cwd)
+    monkeypatch.setenv("MPLBACKEND", "Agg")
+    err, out = io.StringIO(), io.StringIO()
+    with contextlib.redirect_stderr(err), contextlib.redirect_stdout(out):
+        try:
+            code = main(list(args))
+        except SystemExit as exc:  # argparse's errors
+            code = exc.code
+    return subprocess.CompletedProcess(args, code, out.getvalue(), err.getvalue())
+
+
 def _tree(folder: Path) -> set[str]:
     return {str(p.relative_to(folder)) for p in folder.rglob("*")}
 
@@ -80,8 +100,10 @@ BAD_FOLDERS = {
 @pytest.mark.parametrize("folder", list(BAD_FOLDERS))
 @pytest.mark.parametrize("command", list(COMMANDS))
 def test_bad_output_folder_is_one_line_exit_2_and_nothing_written(
-    command, folder, inputs, tmp_path
+    command, folder, inputs, tmp_path, monkeypatch
 ):
+    """A path under /proc is tried through ``python -m`` (the real process: exit status,
+    stderr); the other folders call each command's ``main`` in this process."""
     module, args, option = COMMANDS[command]
     value, says = BAD_FOLDERS[folder]
     if command == "post" and folder in ("proc", "file", "through_file"):
@@ -91,7 +113,10 @@ def test_bad_output_folder_is_one_line_exit_2_and_nothing_written(
     (tmp_path / "afile").write_text("not a folder\n")
     before, run_before = _tree(tmp_path), _tree(inputs["run"])
     args = [a.format(**inputs) for a in args]
-    proc = _run(tmp_path, module, *args, value)
+    if folder == "proc" or (command == "post" and folder == "empty"):
+        proc = _run(tmp_path, module, *args, value)
+    else:
+        proc = _run_here(tmp_path, module, *args, value, monkeypatch=monkeypatch)
     assert proc.returncode == 2, proc.stderr
     assert "Traceback" not in proc.stderr
     lines = proc.stderr.strip().splitlines()

@@ -42,6 +42,26 @@ def _cli(*args: str) -> subprocess.CompletedProcess:
     )
 
 
+def _cli_here(*args: str, monkeypatch) -> subprocess.CompletedProcess:
+    """As :func:`_cli`, calling ``main`` in this process (no interpreter start-up and
+    imports per case); an exception escaping ``main`` fails the test as a traceback
+    would."""
+    import contextlib
+    import io
+
+    from taichi_bearing.__main__ import main
+
+    monkeypatch.chdir(ROOT)
+    monkeypatch.setenv("MPLBACKEND", "Agg")
+    err, out = io.StringIO(), io.StringIO()
+    with contextlib.redirect_stderr(err), contextlib.redirect_stdout(out):
+        try:
+            code = main(["compare", *args])
+        except SystemExit as exc:  # argparse's errors
+            code = exc.code
+    return subprocess.CompletedProcess(args, code, out.getvalue(), err.getvalue())
+
+
 @pytest.fixture(scope="module")
 def run_dir(tmp_path_factory):
     d = tmp_path_factory.mktemp("run")
@@ -159,7 +179,8 @@ def test_cwru_outer_race_record(run_dir, cwru_dir, tmp_path):
         (["{run}"], "MEASURED_FILE"),
     ],
 )
-def test_bad_input_one_line_exit_2(args, words, run_dir, measured_csv, tmp_path):
+def test_bad_input_one_line_exit_2(args, words, run_dir, measured_csv, tmp_path, monkeypatch):
+    """The first case through ``python -m`` (the real process), the others in-process."""
     (tmp_path / "empty").mkdir()
     values = {
         "missing": str(tmp_path / "nope"),
@@ -167,7 +188,11 @@ def test_bad_input_one_line_exit_2(args, words, run_dir, measured_csv, tmp_path)
         "run": str(run_dir),
         "csv": str(measured_csv[0]),
     }
-    res = _cli(*[a.format(**values) for a in args], "--out", str(tmp_path / "o"))
+    argv = [*[a.format(**values) for a in args], "--out", str(tmp_path / "o")]
+    if words == "not a folder":
+        res = _cli(*argv)
+    else:
+        res = _cli_here(*argv, monkeypatch=monkeypatch)
     assert res.returncode == 2, res.stderr
     lines = res.stderr.strip().splitlines()
     assert len(lines) == 1 and "Traceback" not in res.stderr

@@ -113,6 +113,7 @@ def trace(model: Model, ids: np.ndarray, n_steps: int, every: int = 25) -> np.nd
     return np.array(rows)
 
 
+@pytest.mark.slow  # ~40 s; friction's stick-slip is also checked by the spinning disk
 def test_pushed_disk_rolls_when_friction_suffices_and_slides_when_not():
     mu_s, mu_d = 0.3, 0.2
     params = ContactParameters(
@@ -276,6 +277,7 @@ def test_bouncing_disk_keeps_the_energy_balance():
             assert c["damping"] > 0.01 * ke0
 
 
+@pytest.mark.slow  # ~45 s; the runs' bit-identity across modes covers the active list too
 def test_active_query_list_skips_far_nodes_and_changes_nothing():
     """A spinning disk thrown onto the block bounces and rolls. Listing only the queries
     within reach of a paired segment at each grid build (most of the disk's rim and of

@@ -137,6 +137,7 @@ def test_no_contact_beyond_the_end_of_a_corner_segment():
     assert max(forces) == 0.0
 
 
+@pytest.mark.slow  # ~30 s; the facet-ripple and corner-segment tests stay in CI
 def test_a_convex_corner_does_not_reach_out_along_its_diagonal():
     """The corner of a block (like a spall's edge) 0.1 mm from a 12 mm roller: nothing
     touches. (A corner node's contact patch must follow the two faces, not the diagonal

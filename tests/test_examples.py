@@ -24,7 +24,12 @@ def test_every_example_is_listed():
     assert sorted(p.name for p in EXAMPLES.glob("plot_*.py")) == sorted(EXPECTED)
 
 
-@pytest.mark.parametrize("name", sorted(EXPECTED))
+@pytest.mark.parametrize(
+    "name",
+    # the coarse run takes ~1 min: slow (the docs build runs it with the gallery)
+    [pytest.param(n, marks=pytest.mark.slow) if n == "plot_coarse_run.py" else n
+     for n in sorted(EXPECTED)],
+)  # fmt: skip
 def test_example_runs(name, tmp_path):
     path = os.pathsep.join(p for p in (str(EXAMPLES.parent), os.environ.get("PYTHONPATH")) if p)
     env = dict(os.environ, MPLBACKEND="Agg", TI_LOG_LEVEL="error", PYTHONPATH=path)

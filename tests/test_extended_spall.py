@@ -123,6 +123,7 @@ def extended_run(case, tmp_path_factory):
     return out, summary
 
 
+@pytest.mark.slow  # a 5.5 ms run, ~2 min; the detector and quasi-static tests above stay in CI
 def test_run_finds_two_rollers_inside_and_the_others_carry_the_load(case, extended_run):
     """The finite element run: roller 0 enters, roller 19 enters one BPFO period later
     while roller 0 is still inside, roller 0 leaves, then roller 19 leaves, each
@@ -161,6 +162,7 @@ def test_run_finds_two_rollers_inside_and_the_others_carry_the_load(case, extend
     assert summary["checks"]["defect_size"]["passed"] is None
 
 
+@pytest.mark.slow  # a 5.5 ms run, ~2 min; the detector and quasi-static tests above stay in CI
 def test_the_report_shows_the_two_inside_unloaded_and_their_neighbours_taking_the_load(
     case, extended_run
 ):

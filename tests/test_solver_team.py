@@ -63,6 +63,7 @@ def test_team_steps_match_one_launch_per_step_with_contact():
     assert contact_team.energies() == contact_ref.energies()
 
 
+@pytest.mark.slow  # ~45 s; the contact's team test and the cage's in-step test stay in CI
 def test_team_steps_match_one_launch_per_step_with_the_cage():
     """A roller orbiting in its pocket drives the cage (the cage's part runs on member 0
     between the force shares and the node updates)."""
