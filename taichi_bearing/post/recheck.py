@@ -62,7 +62,7 @@ def recheck_run(out_dir: str | Path, *, post: bool = True, remesh: bool = False,
         Not a run folder, no histories, or the folder lacks what the checks need (one
         line naming it).
     """
-    from taichi_bearing.case import load_case
+    from taichi_bearing.case import load_case, load_case_for_cli
     from taichi_bearing.checks import run_checks
 
     out = Path(out_dir)
@@ -79,7 +79,7 @@ def recheck_run(out_dir: str | Path, *, post: bool = True, remesh: bool = False,
         raise InputError(
             f"{out}: lacks {', '.join(missing)} (a run folder from before runs recorded them){hint}"
         )
-    case = load_case(out / CASE_FILE)
+    case = load_case_for_cli(out / CASE_FILE)  # its warnings as one line each
     summary = {"case_name": case.name, **run.summary}
     t0 = time.perf_counter()
     summary.update(run_checks(case, run.mesh_info, run.histories, run.preload))
