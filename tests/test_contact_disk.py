@@ -253,6 +253,8 @@ def thrown_disk(
     return model, contact, ids
 
 
+# ~30 s; every run's energy_balance check (test_run_coarse) covers the contact's work in CI
+@pytest.mark.slow
 def test_bouncing_disk_keeps_the_energy_balance():
     """A disk thrown onto the block: kinetic + strain + stored penalty energy + what the
     contact dissipated stays equal to the initial kinetic energy (elastic impact, and an

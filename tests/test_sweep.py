@@ -114,6 +114,8 @@ def test_rerun_skips_finished_cells(pool_sweep):
     assert set(df["status"]) == {"finished"}
 
 
+# ~45 s; the pool sweep runs the same cell engine in CI (run -m slow when touching Dask)
+@pytest.mark.slow
 def test_dask_cluster_matches_pool_and_reports_a_failed_cell(pool_sweep, tmp_path):
     distributed = pytest.importorskip("distributed")
     out_pool, _ = pool_sweep
