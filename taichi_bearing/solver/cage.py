@@ -223,7 +223,8 @@ class RigidCage(ForceContributor):
         if pen > self._capture:
             side = 0
         if side == 0 or side != self.side[n]:
-            self.diss[n][0] += self.et[n]  # friction spring released
+            if self.et[n] != 0.0:  # most pocket nodes are free: no write every step
+                self.diss[n][0] += self.et[n]  # friction spring released
             self.ft[n] = 0.0
             self.et[n] = 0.0
         self.side[n] = side
