@@ -90,7 +90,7 @@ def main() -> int:
         ti.loop_config(serialize=True)
         for _ in range(n):
             for e in range(m.n_elements):
-                element_forces(m, e, dt, damped, 0)
+                element_forces(m, e, dt, damped)
 
     @ti.kernel
     def k_contact(c: ti.template(), m: ti.template(), n: ti.i32, dt: ti.f64):

@@ -13,7 +13,15 @@ the Green strain rate (zero for any rigid motion, so spin is not braked).
 # No `from __future__ import annotations`: Taichi reads kernel annotations at definition.
 import taichi as ti
 
-__all__ = ["element_forces", "gradient", "hooke", "store_von_mises", "von_mises"]
+__all__ = [
+    "element_energy",
+    "element_forces",
+    "gradient",
+    "hooke",
+    "record_element_energies",
+    "store_von_mises",
+    "von_mises",
+]
 
 
 @ti.func
@@ -38,10 +46,10 @@ def hooke(lam, mu, E):
 
 
 @ti.func
-def element_forces(m: ti.template(), e, dt, damped: ti.template(), rec):
+def element_forces(m: ti.template(), e, dt, damped: ti.template()):
     """Element ``e``'s nodal forces into its slots ``m.fe[4 e + k]`` (no atomics: the node
-    update gathers them in a fixed order); with ``rec``, its strain and hourglass
-    energies and ``det F`` for the read-out."""
+    update gathers them in a fixed order). Its energies are recorded apart
+    (:func:`record_element_energies`)."""
     c = m.conn[e]
     bx, by, g = m.bx[e], m.by[e], m.gam[e]
     F, q = gradient(m.x, c, bx, by, g)
@@ -63,13 +71,22 @@ def element_forces(m: ti.template(), e, dt, damped: ti.template(), rec):
     P = F @ S
     for k in ti.static(range(4)):
         m.fe[4 * e + k] = -at * (P @ ti.Vector([bx[k], by[k]])) + g[k] * fq
-    J = F.determinant()
-    if not J > 0.0:
+    if not F.determinant() > 0.0:
         ti.atomic_min(m.bad_element[None], e)
-    if rec != 0:
-        m.e_int[e] = at * (0.5 * lam * tr_e * tr_e + mu * (E * E).sum())
-        m.e_hg[e] = 0.5 * k_hg * q.dot(q)
-        m.jac[e] = J
+
+
+@ti.func
+def element_energy(m: ti.template(), e):
+    """Element ``e``'s strain and hourglass energies and ``det F`` at the current
+    positions, into ``m.e_int``, ``m.e_hg`` and ``m.jac``."""
+    c = m.conn[e]
+    F, q = gradient(m.x, c, m.bx[e], m.by[e], m.gam[e])
+    lam, mu = m.lam[e], m.mu[e]
+    E = 0.5 * (F.transpose() @ F - ti.Matrix.identity(ti.f64, 2))
+    tr_e = E[0, 0] + E[1, 1]
+    m.e_int[e] = m.at[e] * (0.5 * lam * tr_e * tr_e + mu * (E * E).sum())
+    m.e_hg[e] = 0.5 * m.khg[e] * q.dot(q)
+    m.jac[e] = F.determinant()
 
 
 @ti.func
@@ -88,8 +105,19 @@ def von_mises(m: ti.template(), e):
     return ti.sqrt(0.5 * ((sxx - syy) ** 2 + (syy - szz) ** 2 + (szz - sxx) ** 2) + 3.0 * sxy * sxy)
 
 
-# Module-level, not a Model method: Taichi 1.7 compiles a class's kernels without their
+# Module-level, not Model methods: Taichi 1.7 compiles a class's kernels without their
 # module's globals, so a method kernel cannot call a module-level function.
+@ti.kernel
+def record_element_energies(m: ti.template()):
+    """Every element's energies and ``det F`` (:func:`element_energy`) at the current
+    positions. One kernel of its own, whatever the stepping mode, so that the recorded
+    energies do not depend on it: inside a stepping kernel the compiler groups an
+    element's energy terms differently from mode to mode (fast math), which changed
+    their last bit, and the dynamic relaxation's damping is computed from them."""
+    for e in range(m.n_elements):
+        element_energy(m, e)
+
+
 @ti.kernel
 def store_von_mises(m: ti.template()):
     """Every element's von Mises stress into ``m.von_mises``."""

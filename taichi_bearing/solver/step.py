@@ -57,7 +57,9 @@ def step_times(k, n, step0, dt, first0, rec_last, relax):
     ``(first, dt_v, rec, t_load, t_rot)``.
 
     The first step after a restart (``first0``) is a half step for the velocities; the
-    energies are recorded (``rec``) on the last step when ``rec_last``; loads act at
+    nodes' velocities at ``t_n`` are recorded (``rec``) on the last step when
+    ``rec_last`` (the elements' energies by a kernel of their own before it:
+    :func:`~taichi_bearing.solver.element_law.record_element_energies`); loads act at
     ``t_n`` and prescribed rotations reach ``t_{n+1}``; dynamic relaxation (``relax``)
     holds the loads at full value and the rotations at angle 0.
     """
@@ -90,7 +92,7 @@ def step_phase(m: ti.template(), phase: ti.template(), member, n_members: ti.tem
     if ti.static(phase == FORCES):
         e0, e1 = share(m.n_elements, member, n_members)
         for e in range(e0, e1):
-            element_forces(m, e, dt, damped, rec)
+            element_forces(m, e, dt, damped)
         for c in ti.static(m.kernel_contributors):
             c.step_share(member, n_members, m.x, m.v, m.mass, m.f_extra, dt, dt_v)
     if ti.static(phase == GATHER):

@@ -33,6 +33,7 @@ from taichi_bearing.solver.backend import (
     parallel_members,
     serial_loops,
 )
+from taichi_bearing.solver.element_law import record_element_energies
 from taichi_bearing.solver.step import GATHER, N_PHASES, SHARED, step_phase, step_times
 from taichi_bearing.solver.team import TEAM_MAX_THREADS, barrier, join
 
@@ -160,15 +161,13 @@ def advance(model, n: int, record_last: bool = False, mode: str | None = None,
     if n <= 0:
         return
     mode = choose_mode(model, mode)
-    if record_last and mode != "serial" and current_arch() == "cpu":
-        if not model.python_contributors:
-            # The recorded step (element energies) on the calling thread, as a serial
-            # run takes it: the compiler may group the terms of an element's energy
-            # differently in the team's or a parallel kernel (fast math), which changed
-            # energy_internal in its last bit between modes. One step per record.
-            advance(model, n - 1, False, mode, relax_damping)
-            advance(model, 1, True, "serial", relax_damping)
-            return
+    if record_last:
+        # The element energies at the start of the recorded step (the positions its
+        # forces come from) by a kernel of their own, the same in every mode; the step
+        # itself records the nodes' share (velocities at t_n).
+        advance(model, n - 1, False, mode, relax_damping)
+        record_element_energies(model)
+        n = 1
     model.steps_by_mode[mode] = model.steps_by_mode.get(mode, 0) + n
     model.freeze_contributors()
     relax = relax_damping is not None
