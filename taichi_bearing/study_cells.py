@@ -33,6 +33,7 @@ __all__ = [
     "numeric_axis",
     "parse_values",
     "parse_vary",
+    "tied_keys",
 ]
 
 LOAD_KEY = "operating.load_kN"
@@ -48,7 +49,9 @@ class Axis:
     Attributes
     ----------
     key : str
-        Dotted key as written in a case file, e.g. ``mesh.surface_size_mm``.
+        Dotted key as written in a case file, e.g. ``mesh.surface_size_mm``; or several
+        joined by ``+``, which take the same value together (:func:`tied_keys`), e.g.
+        ``mesh.spall_size_mm+mesh.roller_surface_size_mm``.
     values : tuple
         The values, as YAML reads them (numbers, booleans, strings), distinct.
     option : str
@@ -62,6 +65,18 @@ class Axis:
     def __post_init__(self) -> None:
         if not self.values:
             raise InputError(f"{self.option or self.key}: no values")
+
+    @property
+    def keys(self) -> tuple[str, ...]:
+        """The case keys this axis sets (one, or several tied by ``+``)."""
+        return tied_keys(self.key)
+
+
+def tied_keys(key: str) -> tuple[str, ...]:
+    """The case keys of a varied key: ``"a.b+c.d"`` -> ``("a.b", "c.d")``, set to the same
+    value in each cell (e.g. the raceway's and the rollers' fine element size, refined
+    together in a mesh study)."""
+    return tuple(key.split("+"))
 
 
 @dataclass(frozen=True)
@@ -139,8 +154,9 @@ def _yaml_value(text: str, option: str):
 
 def parse_vary(text: str) -> Axis:
     """``"KEY=v1,v2,..."`` (a ``--vary`` argument) -> :class:`Axis`, values read as YAML
-    like ``--set``'s. The key and values are checked against the case schema later, when
-    the cells are made (:func:`make_cells`).
+    like ``--set``'s; ``"KEY1+KEY2=v1,v2,..."`` sets both keys to each value. The keys and
+    values are checked against the case schema later, when the cells are made
+    (:func:`make_cells`).
 
     Raises
     ------
@@ -150,8 +166,11 @@ def parse_vary(text: str) -> Axis:
     key, sep, rest = str(text).partition("=")
     key = key.strip()
     option = f"--vary {text}"
-    if not sep or not key or any(c.isspace() for c in key):
-        raise InputError(f"--vary: expected KEY=v1,v2,..., got {text!r}")
+    parts = key.split("+")
+    if not sep or any(not k or any(c.isspace() for c in k) for k in parts):
+        raise InputError(f"--vary: expected KEY=v1,v2,... or KEY1+KEY2=v1,v2,..., got {text!r}")
+    if len(set(parts)) < len(parts):
+        raise InputError(f"{option}: a key is tied to itself")
     parts = [p.strip() for p in rest.split(",")]
     if any(p == "" for p in parts):
         raise InputError(f"{option}: expected comma-separated values")
@@ -213,8 +232,8 @@ def _yaml_text(value) -> str:
 
 def _key_unit(key: str) -> tuple[str, str]:
     """``operating.load_kN`` -> (``load_kN``, ``kN``); no unit for a key the schema does
-    not declare with one."""
-    section, _, name = key.rpartition(".")
+    not declare with one. Tied keys: the first one's."""
+    section, _, name = tied_keys(key)[0].rpartition(".")
     sec = SECTIONS.get(section)
     k = sec.find(name) if sec is not None else None
     return name, (k.unit if k is not None else "")
@@ -222,11 +241,12 @@ def _key_unit(key: str) -> tuple[str, str]:
 
 def column_labels(keys: Iterable[str]) -> dict[str, str]:
     """The column of each varied key in a study's tables: its last component
-    (``load_kN``), or the whole key with ``_`` for dots where two keys share it."""
+    (``load_kN``), or the whole key with ``_`` for dots where two keys share it; tied keys
+    by their first key's (``spall_size_mm``)."""
     keys = list(keys)
-    last = [k.rpartition(".")[2] for k in keys]
+    last = [tied_keys(k)[0].rpartition(".")[2] for k in keys]
     return {
-        k: (s if last.count(s) == 1 else k.replace(".", "_"))
+        k: (s if last.count(s) == 1 else tied_keys(k)[0].replace(".", "_"))
         for k, s in zip(keys, last, strict=True)
     }
 
@@ -244,7 +264,8 @@ def _value_text(value) -> str:
 
 def _schema_rank(key: str) -> tuple:
     """Where a key stands in the case schema (sections, then their keys, in order); keys
-    it does not declare (sensors) after them, by name."""
+    it does not declare (sensors) after them, by name. Tied keys: where the first stands."""
+    key = tied_keys(key)[0]
     section, _, name = key.rpartition(".")
     names = list(SECTIONS)
     if section in SECTIONS:
@@ -333,9 +354,12 @@ def make_cells(
     if not axes:
         raise InputError("--vary: nothing to vary (give --vary KEY=v1,v2,...)")
     keys = [a.key for a in axes]
-    for i, a in enumerate(axes):
-        if a.key in keys[:i]:
-            raise InputError(f"{a.option or a.key}: {a.key} is varied twice")
+    seen: list[str] = []
+    for a in axes:
+        for k in a.keys:
+            if k in seen:
+                raise InputError(f"{a.option or a.key}: {k} is varied twice")
+            seen.append(k)
     case_path = Path(case_path).resolve()
     base = tuple(overrides)
     case = load_case(case_path, base)
@@ -344,12 +368,15 @@ def make_cells(
     names: dict[str, dict] = {}
     for combo in itertools.product(*(a.values for a in axes)):
         values = dict(zip(keys, combo, strict=True))
-        varied = [f"{k}={_yaml_text(v)}" for k, v in values.items()]
-        origin = {ov: a.option or f"--vary {a.key}" for ov, a in zip(varied, axes, strict=True)}
+        varied, origin = [], {}
+        for a, v in zip(axes, combo, strict=True):
+            for k in a.keys:
+                varied.append(f"{k}={_yaml_text(v)}")
+                origin[varied[-1]] = a.option or f"--vary {a.key}"
         name = cell_dir_name(values)
         cell_case = _load_cell(case_path, (*base, *varied), origin, name)
         timing: list[str] = []
-        if scale_duration and SPEED_KEY in values:
+        if scale_duration and SPEED_KEY in seen:
             timing = _duration_overrides(case, cell_case.operating.shaft_rpm)
             # validates the scaled cell (e.g. intervals vs duration)
             _load_cell(case_path, (*base, *timing, *varied), origin, name)

@@ -220,6 +220,10 @@ def test_convergence_report_leads_with_the_verdict(tmp_path):
         (["--vary", "mesh.surface_size_mm=1,0.5"], ["needs at least 3"]),
         (["--vary", "mesh.surface_size_mm=0.25,0.5,1"], ["coarse to fine", "decrease"]),
         (["--vary", "contact.penalty_scale=1,0.3,0.1"], ["coarse to fine", "increase"]),
+        (
+            ["--vary", "mesh.spall_size_mm+mesh.roller_surface_size_mm=0.25,0.5,1"],
+            ["coarse to fine", "mesh.spall_size_mm must decrease"],
+        ),
         (["--vary", "mesh.surface_size_mm=1,0.25,0.5"], ["one way"]),
         (["--vary", "contact.penalty_method=segment,soft,x"], ["not a number"]),
         (["--vary", "mesh.surface_sze_mm=1,0.5,0.25"], ["--vary mesh.surface_sze_mm", "unknown"]),

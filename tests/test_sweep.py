@@ -21,7 +21,7 @@ import yaml
 from diagnostics.envelope import envelope_spectrum
 from taichi_bearing.__main__ import main as cli
 from taichi_bearing.case import case_to_dict, load_case
-from taichi_bearing.errors import InputError
+from taichi_bearing.errors import CaseError, InputError
 from taichi_bearing.post.report import fmt
 from taichi_bearing.post.sweep_figures import write_sweep_outputs
 from taichi_bearing.sweep import (
@@ -228,6 +228,25 @@ def test_cells_are_named_from_their_key_value_pairs():
     both = {"run.max_steps": 10, "preload.max_steps": 5}
     assert cell_dir_name(both) == "preload_max_steps_5_run_max_steps_10"  # schema order
     assert list(column_labels(both).values()) == ["run_max_steps", "preload_max_steps"]
+
+
+def test_tied_keys_take_each_value_together(tmp_path):
+    tied = "mesh.spall_size_mm+mesh.roller_surface_size_mm"
+    axis = parse_vary(f"{tied}=0.5,0.25")
+    assert axis.keys == ("mesh.spall_size_mm", "mesh.roller_surface_size_mm")
+    cells = make_cells(CASE, [axis], tmp_path, SETS)
+    assert [c.name for c in cells] == ["spall_size_0p5mm", "spall_size_0p25mm"]
+    assert column_labels([tied]) == {tied: "spall_size_mm"}
+    for c, size in zip(cells, (0.5, 0.25), strict=True):
+        mesh = case_to_dict(load_case(CASE, c.overrides))["mesh"]
+        assert mesh["spall_size_mm"] == mesh["roller_surface_size_mm"] == size
+    # a bad value names the argument; a key tied to itself or varied again is refused
+    with pytest.raises(CaseError, match=r"--vary mesh\.spall_size_mm\+"):
+        make_cells(CASE, [parse_vary(f"{tied}=0.5,9")], tmp_path, SETS)
+    with pytest.raises(InputError, match="tied to itself"):
+        parse_vary("mesh.spall_size_mm+mesh.spall_size_mm=0.5")
+    with pytest.raises(InputError, match="varied twice"):
+        make_cells(CASE, [axis, parse_vary("mesh.spall_size_mm=0.5")], tmp_path, SETS)
 
 
 def test_shorthands_make_the_cells_of_vary(tmp_path):

@@ -1,7 +1,9 @@
 """`python -m taichi_bearing convergence CASE.yaml --vary KEY=L1,L2,L3,... [--passages N]`.
 
 Runs the case at every level of one key (at least three, coarse to fine: e.g.
-``mesh.surface_size_mm=1,0.5,0.25,0.125`` or ``contact.penalty_scale=0.03,0.1,0.3,1``),
+``mesh.surface_size_mm=1,0.5,0.25,0.125`` or ``contact.penalty_scale=0.03,0.1,0.3,1``;
+keys joined by ``+`` take each level together, e.g. the locally refined mesh's
+``mesh.spall_size_mm+mesh.roller_surface_size_mm=0.5,0.25,0.125``),
 each level N times from starting angles spread over ``--spread-deg`` (N passages of a
 single-passage case, as ``passages`` does), on the sweep's pool or Dask cluster. For every
 quantity of :data:`taichi_bearing.passage_study.QUANTITIES` it reports the value per level
@@ -31,6 +33,8 @@ from taichi_bearing.errors import InputError
 REFINES = {
     "mesh.surface_size_mm": "decrease",
     "mesh.max_size_mm": "decrease",
+    "mesh.spall_size_mm": "decrease",
+    "mesh.roller_surface_size_mm": "decrease",
     "contact.penalty_scale": "increase",
 }
 
@@ -38,8 +42,10 @@ REFINES = {
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     add_case_arguments(parser)
     parser.add_argument("--vary", required=True, metavar="KEY=L1,L2,L3,...",
-                        help="one case key and at least three levels, coarse to fine, "
-                        "e.g. mesh.surface_size_mm=1,0.5,0.25,0.125 or "
+                        help="one case key (or several joined by +, set together) and at "
+                        "least three levels, coarse to fine, e.g. "
+                        "mesh.surface_size_mm=1,0.5,0.25,0.125, "
+                        "mesh.spall_size_mm+mesh.roller_surface_size_mm=0.5,0.25,0.125 or "
                         "contact.penalty_scale=0.03,0.1,0.3,1")  # fmt: skip
     parser.add_argument("--passages", type=int, default=1, metavar="N",
                         help="runs per level, each from its own starting angle (N "
@@ -67,9 +73,10 @@ def level_axis(text: str):
     except ValueError as exc:
         raise InputError(f"{axis.option}: {exc}") from None
     way = "decrease" if levels[-1] < levels[0] else "increase"
-    if REFINES.get(axis.key, way) != way:
-        raise InputError(f"{axis.option}: give the levels coarse to fine: {axis.key} must "
-                         f"{REFINES[axis.key]}")  # fmt: skip
+    for key in axis.keys:
+        if REFINES.get(key, way) != way:
+            raise InputError(f"{axis.option}: give the levels coarse to fine: {key} must "
+                             f"{REFINES[key]}")  # fmt: skip
     return axis, levels
 
 

@@ -52,8 +52,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     add_case_arguments(parser)
     parser.add_argument("--vary", action="append", default=[], metavar="KEY=V1,V2,...",
                         help="a case key and its values (read as YAML like --set), e.g. "
-                        "--vary mesh.surface_size_mm=1,0.5; repeatable: a grid over "
-                        "every combination")  # fmt: skip
+                        "--vary mesh.surface_size_mm=1,0.5; keys joined by + take each "
+                        "value together; repeatable: a grid over every combination")  # fmt: skip
     parser.add_argument("--load-kN", dest="loads", default=None, metavar="L1,L2,...",
                         help="radial loads in kN, comma-separated: --vary "
                         "operating.load_kN=...")  # fmt: skip
