@@ -162,6 +162,13 @@ def parse_vary(text: str) -> Axis:
     ------
     InputError
         Naming the argument: no ``=``, no key, an empty or non-YAML value, a repeat.
+
+    Examples
+    --------
+    >>> parse_vary("contact.penalty_scale=0.1,0.3,1e0").values
+    (0.1, 0.3, 1.0)
+    >>> parse_vary("mesh.spall_size_mm+mesh.roller_surface_size_mm=0.5,0.25").keys
+    ('mesh.spall_size_mm', 'mesh.roller_surface_size_mm')
     """
     key, sep, rest = str(text).partition("=")
     key = key.strip()
@@ -278,7 +285,15 @@ def _schema_rank(key: str) -> tuple:
 def cell_dir_name(values: Mapping[str, object]) -> str:
     """Run folder name of a cell from its key=value pairs, in the case schema's order
     (whatever order the keys were varied in): the key's name with its value before the
-    unit, e.g. ``load_50kN_speed_500rpm``, ``penalty_scale_0p3``."""
+    unit, e.g. ``load_50kN_speed_500rpm``, ``penalty_scale_0p3``.
+
+    Examples
+    --------
+    >>> cell_dir_name({"operating.speed_rpm": 500.0, "operating.load_kN": 50.0})
+    'load_50kN_speed_500rpm'
+    >>> cell_dir_name({"run.first_roller_angle_deg": -4.25})
+    'first_roller_angle_-4p25deg'
+    """
     labels = column_labels(values)
     parts = []
     for key in sorted(values, key=_schema_rank):

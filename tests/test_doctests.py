@@ -1,5 +1,6 @@
-"""The docstring examples of ``diagnostics`` run, on small data, with their printed output
-checked (none is skipped): ``doctest`` on every module of the package."""
+"""The docstring examples run, on small data, with their printed output checked (none is
+skipped): ``doctest`` on every module of ``diagnostics`` and on the simulator's modules
+that hold examples (pure functions: kinematics, Hertz, the load distribution, studies)."""
 
 from __future__ import annotations
 
@@ -12,8 +13,19 @@ import pytest
 
 import diagnostics
 
-MODULES = ["diagnostics"] + sorted(
-    f"diagnostics.{m.name}" for m in pkgutil.iter_modules(diagnostics.__path__)
+SIMULATOR = [
+    "taichi_bearing.bearing",
+    "taichi_bearing.convergence",
+    "taichi_bearing.output.checkpoint",
+    "taichi_bearing.output.histories",
+    "taichi_bearing.output.progress",
+    "taichi_bearing.quasistatic",
+    "taichi_bearing.study_cells",
+]
+MODULES = (
+    ["diagnostics"]
+    + sorted(f"diagnostics.{m.name}" for m in pkgutil.iter_modules(diagnostics.__path__))
+    + SIMULATOR
 )
 FLAGS = doctest.ELLIPSIS | doctest.NORMALIZE_WHITESPACE
 
@@ -65,6 +77,7 @@ def test_no_example_is_skipped():
         "diagnostics.frequencies",
         "diagnostics.speed",
         "diagnostics.spectral",
+        *SIMULATOR,
     )
     for name in documented:
         assert counted.get(name, 0) > 0, f"{name} has no docstring example"

@@ -162,9 +162,13 @@ class HistoryWriter:
 
     Examples
     --------
-    >>> cols = history_columns(["top"], n_rollers=20)             # doctest: +SKIP
-    >>> with HistoryWriter(out, cols, csv=True) as hist:          # doctest: +SKIP
-    ...     hist.append(row)
+    Three rows into the run folder ``run`` (``run/histories.parquet``), read back:
+
+    >>> with HistoryWriter("run", ["time_s", "top_ay"]) as hist:
+    ...     for k in range(3):
+    ...         hist.append([k * 1e-5, 0.5 * k])
+    >>> read_histories("run")["top_ay"].tolist()
+    [0.0, 0.5, 1.0]
     """
 
     def __init__(

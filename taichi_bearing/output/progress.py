@@ -198,11 +198,13 @@ class RunProgress(_Progress):
 
     Examples
     --------
-    >>> with RunProgress(duration_s, "transient", log_every_s=20) as bar:  # doctest: +SKIP
-    ...     for step in range(n_steps):
-    ...         ...
-    ...         if step % 200 == 0:
-    ...             bar.update(step, t)
+    Into a stream that is not a terminal: a line every 20 s of wall time and one at the end.
+
+    >>> import sys
+    >>> with RunProgress(1e-3, "transient", file=sys.stdout, log_every_s=20) as bar:
+    ...     for step in range(0, 1001, 200):
+    ...         bar.update(step, step * 1e-6)
+    transient: 1.000/1.000 ms simulated (100%), step 1,000, ... steps/s, ... s in all
     """
 
     def __init__(
@@ -287,8 +289,11 @@ class RelaxProgress(_Progress):
 
     Examples
     --------
-    >>> with RelaxProgress(1e-5, 200_000, log_every_s=20) as bar:  # doctest: +SKIP
-    ...     relax(model, 1e-5, 200_000, progress=bar.update)
+    >>> import sys
+    >>> with RelaxProgress(1e-5, 200_000, file=sys.stdout, log_every_s=20) as bar:
+    ...     for steps, ratio in ((50, 1.0), (100, 1e-3), (150, 5e-6)):
+    ...         bar.update(steps, ratio)
+    preload: KE ratio 5e-06 (stops below 1e-05), step 150 of at most 200,000, ... s in all
     """
 
     def __init__(
