@@ -1,6 +1,7 @@
 """The gallery's scripts (examples/plot_*.py) run to the end on synthetic data, as the
 documentation build runs them, and print what their text says they find.
-(plot_coarse_run.py runs the coarse case: about a minute on one thread.)"""
+(plot_coarse_run.py and plot_compare_measured.py run the coarse case: about a minute
+each; they are marked slow and the documentation build runs them.)"""
 
 from __future__ import annotations
 
@@ -14,10 +15,17 @@ import pytest
 EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
 EXPECTED = {
     "plot_coarse_run.py": ["status finished", "impulses at the exit"],
+    "plot_compare_measured.py": [
+        "status finished: 3 roller passages recorded",
+        "simulated: coarse_spall",
+        "BPFO x1..5 / median",
+    ],
     "plot_diagnose_record.py": ["fault: outer, confidence 1.00"],
     "plot_kurtogram_envelope.py": ["kurtogram band: strongest line 146.7 Hz"],
     "plot_mesh.py": ["14748 elements", "'race': 'outer'"],
 }
+
+SIMULATING = {"plot_coarse_run.py", "plot_compare_measured.py"}
 
 
 def test_every_example_is_listed():
@@ -26,8 +34,8 @@ def test_every_example_is_listed():
 
 @pytest.mark.parametrize(
     "name",
-    # the coarse run takes ~1 min: slow (the docs build runs it with the gallery)
-    [pytest.param(n, marks=pytest.mark.slow) if n == "plot_coarse_run.py" else n
+    # the coarse runs take ~1 min each: slow (the docs build runs them with the gallery)
+    [pytest.param(n, marks=pytest.mark.slow) if n in SIMULATING else n
      for n in sorted(EXPECTED)],
 )  # fmt: skip
 def test_example_runs(name, tmp_path):
