@@ -34,7 +34,8 @@ def run_dir(tmp_path_factory) -> Path:
     out = tmp_path_factory.mktemp("animate") / "run"
     env = dict(os.environ, PYTHONPATH=str(ROOT) + os.pathsep + os.environ.get("PYTHONPATH", ""))
     args = [COARSE, "--set", "run.duration_ms=0.1", "--set", "run.frame_interval_ms=0.025",
-            "--set", "preload.ke_ratio_tol=0.01", "--out", out, "--quiet", "--no-post"]  # fmt: skip
+            "--set", "preload.ke_ratio_tol=0.01", "--set", "run.threads=1",
+            "--out", out, "--quiet", "--no-post"]  # fmt: skip
     proc = subprocess.run(
         [sys.executable, "-m", "taichi_bearing", *map(str, args)],
         capture_output=True, text=True, timeout=600, env=env, cwd=ROOT,

@@ -83,8 +83,8 @@ def test_unknown_arch_is_rejected_by_the_parser(tmp_path):
 def test_ctrl_c_leaves_valid_histories(tmp_path):
     out = tmp_path / "run"
     proc = subprocess.Popen(
-        [sys.executable, "-m", "taichi_bearing", COARSE, "--out", str(out), "--quiet",
-         "--no-post"],
+        [sys.executable, "-m", "taichi_bearing", COARSE, "--out", str(out), "--threads", "1",
+         "--quiet", "--no-post"],
         env=_env(), cwd=ROOT, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
         preexec_fn=_default_sigint,
     )  # fmt: skip
@@ -116,7 +116,7 @@ def test_ctrl_c_leaves_valid_histories(tmp_path):
 # mesh (about 4,000 elements), 2 ms, a checkpoint every 0.2 ms.
 TINY = [COARSE, "--set", "mesh.surface_size_mm=3", "--set", "mesh.max_size_mm=6",
         "--set", "run.duration_ms=2", "--set", "run.checkpoint_interval_ms=0.2",
-        "--set", "run.frame_interval_ms=1", "--quiet"]  # fmt: skip
+        "--set", "run.frame_interval_ms=1", "--threads", "1", "--quiet"]  # fmt: skip
 
 
 @pytest.fixture(scope="module")

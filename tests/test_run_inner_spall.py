@@ -32,7 +32,7 @@ def inner_run(case, tmp_path_factory):
     from taichi_bearing.simulate import run_case
 
     out = tmp_path_factory.mktemp("inner_run")
-    summary = run_case(case, out, threads=None, quiet=True, post=False)  # all cores
+    summary = run_case(case, out, threads=1, quiet=True, post=False)
     return out, summary, read_histories(out)
 
 
