@@ -173,10 +173,10 @@ def parse_vary(text: str) -> Axis:
     key, sep, rest = str(text).partition("=")
     key = key.strip()
     option = f"--vary {text}"
-    parts = key.split("+")
-    if not sep or any(not k or any(c.isspace() for c in k) for k in parts):
+    keys = tied_keys(key)
+    if not sep or any(not k or any(c.isspace() for c in k) for k in keys):
         raise InputError(f"--vary: expected KEY=v1,v2,... or KEY1+KEY2=v1,v2,..., got {text!r}")
-    if len(set(parts)) < len(parts):
+    if len(set(keys)) < len(keys):
         raise InputError(f"{option}: a key is tied to itself")
     parts = [p.strip() for p in rest.split(",")]
     if any(p == "" for p in parts):

@@ -17,6 +17,7 @@ __all__ = [
     "element_energy",
     "element_forces",
     "gradient",
+    "green_strain",
     "hooke",
     "record_element_energies",
     "store_von_mises",
@@ -38,6 +39,12 @@ def gradient(field: ti.template(), c, bx, by, g):
 
 
 @ti.func
+def green_strain(F):
+    """The Green strain ``(F^T F - I) / 2`` of a deformation gradient ``F``."""
+    return 0.5 * (F.transpose() @ F - ti.Matrix.identity(ti.f64, 2))
+
+
+@ti.func
 def hooke(lam, mu, E):
     """The St Venant-Kirchhoff law of a symmetric strain (or strain rate) ``E``:
     ``lambda tr(E) I + 2 mu E``, and ``tr(E)``."""
@@ -55,7 +62,7 @@ def element_forces(m: ti.template(), e, dt, damped: ti.template()):
     F, q = gradient(m.x, c, bx, by, g)
     lam, mu = m.lam[e], m.mu[e]
     at, k_hg = m.at[e], m.khg[e]
-    E = 0.5 * (F.transpose() @ F - ti.Matrix.identity(ti.f64, 2))
+    E = green_strain(F)
     S, tr_e = hooke(lam, mu, E)
     fq = -k_hg * q
     if ti.static(damped):
@@ -82,7 +89,7 @@ def element_energy(m: ti.template(), e):
     c = m.conn[e]
     F, q = gradient(m.x, c, m.bx[e], m.by[e], m.gam[e])
     lam, mu = m.lam[e], m.mu[e]
-    E = 0.5 * (F.transpose() @ F - ti.Matrix.identity(ti.f64, 2))
+    E = green_strain(F)
     tr_e = E[0, 0] + E[1, 1]
     m.e_int[e] = m.at[e] * (0.5 * lam * tr_e * tr_e + mu * (E * E).sum())
     m.e_hg[e] = 0.5 * m.khg[e] * q.dot(q)
@@ -96,7 +103,7 @@ def von_mises(m: ti.template(), e):
     c = m.conn[e]
     F, _ = gradient(m.x, c, m.bx[e], m.by[e], m.gam[e])
     lam = m.lam[e]
-    E = 0.5 * (F.transpose() @ F - ti.Matrix.identity(ti.f64, 2))
+    E = green_strain(F)
     S, tr_e = hooke(lam, m.mu[e], E)
     J = F.determinant()
     sig = F @ S @ F.transpose() / J
