@@ -7,12 +7,15 @@ thread takes part."""
 
 import numpy as np
 import pytest
+import taichi as ti
 from test_contact_cage import OMEGA, orbiting_roller
 from test_contact_disk import thrown_disk
 
-from taichi_bearing.solver.backend import current_threads, init_taichi
+from taichi_bearing.solver import stepping
+from taichi_bearing.solver.backend import GPU_MEMBERS, current_threads, init_taichi
 from taichi_bearing.solver.contact import ContactParameters
 from taichi_bearing.solver.model import Model
+from taichi_bearing.solver.team import share
 
 
 @pytest.fixture(scope="module", autouse=True)
@@ -94,3 +97,42 @@ def test_element_energies_are_the_same_in_every_mode():
         assert model.energies()["internal"] > 0
     np.testing.assert_array_equal(e_int["serial"], e_int["team"])
     np.testing.assert_array_equal(e_int["serial"], e_int["parallel"])
+
+
+@ti.kernel
+def _shares(lo: ti.types.ndarray(), hi: ti.types.ndarray(), count: ti.i32, n_members: ti.i32):
+    for member in range(n_members):
+        lo[member], hi[member] = share(count, member, n_members)
+
+
+@pytest.mark.parametrize("count", [7, 28_401, 32_768, 1_000_003])
+def test_shares_tile_the_items_with_a_gpus_member_count(count):
+    """The members' shares cover ``[0, count)`` once, in order, as even as integers allow,
+    with a GPU's 65,536 members (their product passes the i32 range above 32,767 items)."""
+    n = GPU_MEMBERS
+    lo, hi = np.zeros(n, np.int32), np.zeros(n, np.int32)
+    _shares(lo, hi, count, n)
+    member = np.arange(n, dtype=np.int64)
+    np.testing.assert_array_equal(lo, member * count // n)
+    np.testing.assert_array_equal(hi, (member + 1) * count // n)
+    assert lo[0] == 0 and hi[-1] == count and (hi[:-1] == lo[1:]).all()
+
+
+def test_a_gpus_split_of_the_step_gives_the_same_motion(monkeypatch):
+    """One launch per step split among a GPU's 65,536 members (most with nothing to do),
+    run here on the CPU, moves the disk as one thread does, bit for bit."""
+    out = {}
+    for mode in ("serial", "parallel"):
+        if mode == "parallel":
+            monkeypatch.setattr(stepping, "parallel_members", lambda: GPU_MEMBERS)
+        params = ContactParameters(friction_static=0.3, friction_dynamic=0.2)
+        model, contact, _ = thrown_disk(params, (2.0, -1.0), omega=-300.0)
+        fn = []
+        for _ in range(30):
+            model.advance(60, record_last=True, mode=mode)
+            fn.append(contact.contact_state()["fn"].copy())
+        out[mode] = (model.positions(), np.array(fn), model.energies())
+    assert out["serial"][1].max() > 0  # it touched
+    np.testing.assert_array_equal(out["parallel"][0], out["serial"][0])
+    np.testing.assert_array_equal(out["parallel"][1], out["serial"][1])
+    assert out["parallel"][2] == out["serial"][2]

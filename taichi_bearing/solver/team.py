@@ -27,7 +27,9 @@ TEAM_MAX_THREADS = 256
 def share(count, member, n_members):
     """Member's contiguous share ``[lo, hi)`` of ``count`` items split among
     ``n_members``."""
-    return member * count // n_members, (member + 1) * count // n_members
+    # In 64 bits: a GPU's 65,536 members times 32,768 items passes the i32 range.
+    m = ti.cast(member, ti.i64)
+    return ti.cast(m * count // n_members, ti.i32), ti.cast((m + 1) * count // n_members, ti.i32)
 
 
 @ti.data_oriented
