@@ -174,10 +174,11 @@ class RigidCage(ForceContributor):
 
     @ti.func
     def step_begin(self, member, n_members):
-        """Member 0: each pocket's direction this step; the sums restart."""
+        """This member's share of the pockets' directions this step; the sums restart."""
+        j0, j1 = share(self.n_rollers, member, n_members)
+        for j in range(j0, j1):
+            self._frame(j)
         if member == 0:
-            for j in range(self.n_rollers):
-                self._frame(j)
             self.torque[0] = ti.i64(0)
 
     @ti.func
@@ -189,10 +190,15 @@ class RigidCage(ForceContributor):
             self._pocket(n, x, v, mass, f_ext, dt)
 
     @ti.func
-    def step_end(self, x: ti.template(), v: ti.template(), mass: ti.template(),
-                 f_ext: ti.template(), dt, dt_v):  # fmt: skip
-        """Member 0, after every share: the cage's leapfrog step."""
-        self._turn(dt, dt_v)
+    def step_end(self, member, n_members, x: ti.template(), v: ti.template(),
+                 mass: ti.template(), f_ext: ti.template(), dt, dt_v):  # fmt: skip
+        """After every share: this member's share of the pocket sums; member 0 the
+        cage's leapfrog step."""
+        j0, j1 = share(self.n_rollers, member, n_members)
+        for j in range(j0, j1):
+            self.acc[j] += force_at(self.cur, j)
+        if member == 0:
+            self._turn(dt, dt_v)
 
     @ti.func
     def _frame(self, j):
@@ -254,9 +260,7 @@ class RigidCage(ForceContributor):
 
     @ti.func
     def _turn(self, dt, dt_v):
-        """Pocket sums into the sample sums, then the cage's leapfrog step."""
-        for j in range(self.n_rollers):
-            self.acc[j] += force_at(self.cur, j)
+        """The cage's leapfrog step."""
         w_new = self.state[1] + dt_v * force_at(self.torque, 0) / self.inertia
         self.state[1] = w_new
         self.state[0] = self.state[0] + dt * w_new

@@ -329,11 +329,10 @@ class PenaltyContact(ForceContributor):
 
     @ti.func
     def step_begin(self, member, n_members):
-        """Clear this member's share of the tracked nodes' forces (member 0: the
-        pairs')."""
-        if member == 0:
-            for p in range(self.n_pairs):
-                self.cur[p] = ti.Vector.zero(ti.i64, 4)
+        """Clear this member's share of the pairs' and the tracked nodes' forces."""
+        p0, p1 = share(self.n_pairs, member, n_members)
+        for p in range(p0, p1):
+            self.cur[p] = ti.Vector.zero(ti.i64, 4)
         t0, t1 = share(self.n_track, member, n_members)
         for t in range(t0, t1):
             self.node_force[self.track[t]] = ti.Vector.zero(ti.i64, 2)
@@ -347,10 +346,12 @@ class PenaltyContact(ForceContributor):
             self._query(qa, x, v, mass, f_ext, dt)
 
     @ti.func
-    def step_end(self, x: ti.template(), v: ti.template(), mass: ti.template(),
-                 f_ext: ti.template(), dt, dt_v):  # fmt: skip
-        """After every share: this step's pair resultants into the sample sums."""
-        for p in range(self.n_pairs):
+    def step_end(self, member, n_members, x: ti.template(), v: ti.template(),
+                 mass: ti.template(), f_ext: ti.template(), dt, dt_v):  # fmt: skip
+        """After every share: this member's share of the pair resultants into the sample
+        sums."""
+        p0, p1 = share(self.n_pairs, member, n_members)
+        for p in range(p0, p1):
             self.acc[p] += force_at(self.cur, p)
 
     @ti.func

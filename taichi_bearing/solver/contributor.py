@@ -88,10 +88,11 @@ class ForceContributor:
         pass
 
     @ti.func
-    def step_end(self, x: ti.template(), v: ti.template(), mass: ti.template(),
-                 f_ext: ti.template(), dt, dt_v):  # fmt: skip
-        """Member 0 alone, after every share and before the nodes move: serial work in a
-        fixed order (sums over the step, a rigid body's own update)."""
+    def step_end(self, member, n_members, x: ti.template(), v: ti.template(),
+                 mass: ti.template(), f_ext: ti.template(), dt, dt_v):  # fmt: skip
+        """After every share and before the nodes move: member ``member``'s share of the
+        step's end (sums over the step), and what must be serial (a rigid body's own
+        update) on member 0. Adds no forces: the plate reads ``f_ext`` meanwhile."""
         pass
 
     @ti.kernel
@@ -105,9 +106,9 @@ class ForceContributor:
         ti.loop_config(serialize=n_members == 1)
         for member in range(n_members):
             self.step_share(member, n_members, x, v, mass, f_ext, dt, dt_v)
-        ti.loop_config(serialize=True)
-        for _ in range(1):
-            self.step_end(x, v, mass, f_ext, dt, dt_v)
+        ti.loop_config(serialize=n_members == 1)
+        for member in range(n_members):
+            self.step_end(member, n_members, x, v, mass, f_ext, dt, dt_v)
 
     # ---------------------------------------------------------------- from Python
 

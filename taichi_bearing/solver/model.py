@@ -266,6 +266,10 @@ class Model:
         self.plate_node = _scalar_field(self.n_plate, ti.i32)
         self.plate_dir = ti.Vector.field(2, ti.f64, shape=())
         self.plate_v = ti.field(ti.f64, shape=())
+        # per plate node, its force along the plate's direction (summed by every plate
+        # node in one order), and the plate's velocity before the step
+        self.plate_f = _scalar_field(self.n_plate)
+        self.plate_vo = ti.field(ti.f64, shape=())
         if plates:
             self.plate_node.from_numpy(self.plate.nodes.astype(np.int32))
             self.plate_dir[None] = self.plate.direction
@@ -295,6 +299,10 @@ class Model:
         self.load_node = _scalar_field(nl, ti.i32)
         self.load_force = _vec_field(nl)
         self.load_ramp = _scalar_field(nl)
+        # Each load on a node of its own: the members may set their share of the loads
+        # (a node's sum of one load is that load); else member 0 adds them in order.
+        all_nodes = np.concatenate(nodes) if nl else np.zeros(0, np.int64)
+        self.loads_unique = bool(len(np.unique(all_nodes)) == nl)
         if nl:
             self.load_node.from_numpy(np.concatenate(nodes).astype(np.int32))
             self.load_force.from_numpy(np.concatenate(forces))

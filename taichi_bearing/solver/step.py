@@ -5,20 +5,24 @@ stepping mode (:mod:`taichi_bearing.solver.stepping`) runs exactly these, and ea
 starts once every member has finished the one before:
 
 1. ``CLEAR``: each force contributor clears its share of what it sums over the step;
+   the dead loads at ``t_n``;
 2. ``FORCES``: element forces (:func:`~taichi_bearing.solver.element_law.element_forces`,
    into per-element slots) and each contributor's share of its forces (into the
    fixed-point field ``f_extra``; see :mod:`taichi_bearing.solver.contributor`);
-3. ``GATHER`` (one member): each contributor's serial end, the dead loads (in a fixed
-   order) and the rigid plate's one velocity;
+3. ``GATHER``: each contributor's end of the step (sums over the step, a rigid body's own
+   update), and each rigid-plate node's force along the plate;
 4. ``NODES``: each node gathers its element forces in a fixed order, adds ``f_extra`` and
    the loads, and moves: ``v^{n+1/2} = v^{n-1/2} + dt a^n``, ``x^{n+1} = x^n + dt v^{n+1/2}``,
-   then constraints and the work of the non-elastic forces;
+   then constraints and the work of the non-elastic forces; a plate node takes the
+   plate's one velocity, which each of them sums from the plate forces in one order;
 5. ``SENSORS`` (one member): the sensor sums, averaged later over each output interval.
 
-Phases 1, 2 and 4 are split among the members (``share``); 3 and 5 run on member 0. No
-sum depends on how the members split the work, so a run is bit-reproducible on any number
-of threads. :func:`step_times` says when the step is (the only place step times are
-computed).
+Phases 1 to 4 are split among the members (``share``), what must be serial within them
+done by member 0; 5 runs on member 0. On a GPU each phase is one launch and a serial one
+runs on one thread, where every dependent memory read waits its full latency: so only
+the two sensors' sums are left serial. No sum depends on how the members split the work,
+so a run is bit-reproducible on any number of threads. :func:`step_times` says when the
+step is (the only place step times are computed).
 """
 
 # No `from __future__ import annotations`: Taichi reads kernel annotations at definition.
@@ -43,7 +47,7 @@ __all__ = [
 CLEAR, FORCES, GATHER, NODES, SENSORS = range(5)
 N_PHASES = 5
 # Phases split among the members (the others run on member 0 alone).
-SHARED = (True, True, False, True, False)
+SHARED = (True, True, True, True, False)
 
 # Node flags (Model.bc), bits: constraints, then whether a dead load or a force
 # contributor can act on the node (the others skip reading those fields: less memory
@@ -89,6 +93,7 @@ def step_phase(m: ti.template(), phase: ti.template(), member, n_members: ti.tem
     if ti.static(phase == CLEAR):
         for c in ti.static(m.kernel_contributors):
             c.step_begin(member, n_members)
+        apply_loads(m, t_load, member, n_members)
     if ti.static(phase == FORCES):
         e0, e1 = share(m.n_elements, member, n_members)
         for e in range(e0, e1):
@@ -97,9 +102,8 @@ def step_phase(m: ti.template(), phase: ti.template(), member, n_members: ti.tem
             c.step_share(member, n_members, m.x, m.v, m.mass, m.f_extra, dt, dt_v)
     if ti.static(phase == GATHER):
         for c in ti.static(m.kernel_contributors):
-            c.step_end(m.x, m.v, m.mass, m.f_extra, dt, dt_v)
-        apply_loads(m, t_load)
-        plate_update(m, dt_v, c_mass)
+            c.step_end(member, n_members, m.x, m.v, m.mass, m.f_extra, dt, dt_v)
+        plate_forces(m, member, n_members)
     if ti.static(phase == NODES):
         i0, i1 = share(m.n_nodes, member, n_members)
         for i in range(i0, i1):
@@ -110,41 +114,66 @@ def step_phase(m: ti.template(), phase: ti.template(), member, n_members: ti.tem
 
 
 @ti.func
-def apply_loads(m: ti.template(), t_load):
-    """Dead loads into ``m.f_load`` at time ``t_load``, ramped, in a fixed order."""
-    # f_load is non-zero only at load nodes: clear those, not every node each step.
-    for k in range(m.n_load):
-        m.f_load[m.load_node[k]] = ti.Vector.zero(ti.f64, 2)
-    for k in range(m.n_load):
-        tr = m.load_ramp[k]
-        amp = 1.0
-        if tr > 0.0 and t_load < tr:
-            amp = t_load / tr
-        m.f_load[m.load_node[k]] += amp * m.load_force[k]
+def load_amplitude(m: ti.template(), k, t_load):
+    """Load ``k``'s ramp factor at time ``t_load``."""
+    tr = m.load_ramp[k]
+    amp = 1.0
+    if tr > 0.0 and t_load < tr:
+        amp = t_load / tr
+    return amp
 
 
 @ti.func
-def plate_update(m: ti.template(), dt_v, c_mass):
-    """The rigid plate's one velocity: the total force along its direction over its total
-    mass (element forces gathered as the node update does, plus loads and contributors)."""
+def apply_loads(m: ti.template(), t_load, member, n_members: ti.template()):
+    """Dead loads into ``m.f_load`` at time ``t_load``, ramped: each member its share
+    where every load has a node of its own, else member 0 all, in a fixed order."""
+    if ti.static(m.loads_unique):
+        k0, k1 = share(m.n_load, member, n_members)
+        for k in range(k0, k1):
+            m.f_load[m.load_node[k]] = ti.Vector.zero(ti.f64, 2)
+            m.f_load[m.load_node[k]] += load_amplitude(m, k, t_load) * m.load_force[k]
+    elif member == 0:
+        # f_load is non-zero only at load nodes: clear those, not every node each step.
+        for k in range(m.n_load):
+            m.f_load[m.load_node[k]] = ti.Vector.zero(ti.f64, 2)
+        for k in range(m.n_load):
+            m.f_load[m.load_node[k]] += load_amplitude(m, k, t_load) * m.load_force[k]
+
+
+@ti.func
+def plate_forces(m: ti.template(), member, n_members: ti.template()):
+    """Each plate node's force along the plate (element forces gathered as the node
+    update does, plus loads and contributors), this member's share; member 0 keeps the
+    plate's velocity before the step."""
     if ti.static(m.n_plate > 0):
         d = m.plate_dir[None]
-        f_sum = 0.0
-        m_sum = 0.0
-        for k in range(m.n_plate):
+        k0, k1 = share(m.n_plate, member, n_members)
+        for k in range(k0, k1):
             i = m.plate_node[k]
             f = force_at(m.f_extra, i) + m.f_load[i]
             for s in range(m.adj_ptr[i], m.adj_ptr[i + 1]):
                 f += m.fe[m.adj[s]]
-            f_sum += f.dot(d)
-            m_sum += m.mass[i]
-        vo = m.v[m.plate_node[0]].dot(d)
-        vn = vo + dt_v * f_sum / m_sum
-        if c_mass > 0.0:
-            vn = ((1.0 - 0.5 * c_mass * dt_v) * vo + dt_v * f_sum / m_sum) / (
-                1.0 + 0.5 * c_mass * dt_v
-            )
-        m.plate_v[None] = vn
+            m.plate_f[k] = f.dot(d)
+        if member == 0:
+            m.plate_vo[None] = m.v[m.plate_node[0]].dot(d)
+
+
+@ti.func
+def plate_velocity(m: ti.template(), dt_v, c_mass):
+    """The rigid plate's one velocity: its total force along its direction over its total
+    mass, summed in one order (each plate node computes it alike)."""
+    f_sum = 0.0
+    m_sum = 0.0
+    for k in range(m.n_plate):
+        f_sum += m.plate_f[k]
+        m_sum += m.mass[m.plate_node[k]]
+    vo = m.plate_vo[None]
+    vn = vo + dt_v * f_sum / m_sum
+    if c_mass > 0.0:
+        vn = ((1.0 - 0.5 * c_mass * dt_v) * vo + dt_v * f_sum / m_sum) / (
+            1.0 + 0.5 * c_mass * dt_v
+        )
+    return vn
 
 
 @ti.func
@@ -185,7 +214,10 @@ def node_update(m: ti.template(), i, t_rot, dt, dt_v, first, c_mass, rec):
         d = m.held_dir[i]
         vn -= vn.dot(d) * d
     if flag & PLATE:
-        vn = m.plate_v[None] * m.plate_dir[None]
+        pv = plate_velocity(m, dt_v, c_mass)
+        if i == m.plate_node[0]:
+            m.plate_v[None] = pv
+        vn = pv * m.plate_dir[None]
     xn = xo + dt * vn
     if flag & ROTATED:
         g = m.rot_group[i]
