@@ -119,17 +119,19 @@ def test_shares_tile_the_items_with_a_gpus_member_count(count):
 
 
 def test_a_gpus_split_of_the_step_gives_the_same_motion(monkeypatch):
-    """One launch per step split among a GPU's 65,536 members (most with nothing to do),
-    run here on the CPU, moves the disk as one thread does, bit for bit."""
+    """Launches of several unrolled steps, each phase split among a GPU's 65,536 members
+    (most with nothing to do), run here on the CPU, move the disk as one thread does,
+    bit for bit (61 steps a call: launches of 4 steps and single steps)."""
     out = {}
     for mode in ("serial", "parallel"):
         if mode == "parallel":
             monkeypatch.setattr(stepping, "parallel_members", lambda: GPU_MEMBERS)
+            monkeypatch.setattr(stepping, "parallel_steps", lambda: 4)
         params = ContactParameters(friction_static=0.3, friction_dynamic=0.2)
         model, contact, _ = thrown_disk(params, (2.0, -1.0), omega=-300.0)
         fn = []
         for _ in range(30):
-            model.advance(60, record_last=True, mode=mode)
+            model.advance(61, record_last=True, mode=mode)
             fn.append(contact.contact_state()["fn"].copy())
         out[mode] = (model.positions(), np.array(fn), model.energies())
     assert out["serial"][1].max() > 0  # it touched

@@ -13,8 +13,9 @@ by phase); they differ only in how the phases are launched:
     Chunks of steps in one launch on several CPU threads, the members meeting at spin
     barriers between phases (:mod:`taichi_bearing.solver.team`).
 ``parallel``
-    One launch per step, each shared phase a parallel loop over many members (a GPU, or
-    more CPU threads than cores); with a Python contributor
+    Each shared phase a parallel loop over many members (a GPU, or more CPU threads than
+    cores), :func:`parallel_steps` steps (their phases unrolled) a launch; with a Python
+    contributor
     (:class:`~taichi_bearing.solver.contributor.ForceContributor` with ``in_kernel``
     False), two launches per step with its :meth:`add_forces` between.
 
@@ -26,6 +27,7 @@ import os
 
 import taichi as ti
 
+from taichi_bearing.errors import InputError
 from taichi_bearing.solver import backend
 from taichi_bearing.solver.backend import (
     current_arch,
@@ -37,7 +39,15 @@ from taichi_bearing.solver.element_law import record_element_energies
 from taichi_bearing.solver.step import GATHER, N_PHASES, SHARED, step_phase, step_times
 from taichi_bearing.solver.team import TEAM_MAX_THREADS, barrier, join
 
-__all__ = ["MODES", "SERIAL_MAX_ELEMENTS", "advance", "choose_mode", "team_size"]
+__all__ = [
+    "MODES",
+    "STEPS_PER_LAUNCH_ENV",
+    "SERIAL_MAX_ELEMENTS",
+    "advance",
+    "choose_mode",
+    "parallel_steps",
+    "team_size",
+]
 
 MODES = ("serial", "team", "parallel")
 # Below this many elements a chunk of steps runs serially (launch-bound regime).
@@ -46,6 +56,11 @@ SERIAL_MAX_ELEMENTS = 3000
 # member spinning at a barrier while another waits for a core wastes its time slices
 # (one other CPU-bound process made team stepping 18x slower on 2 cores).
 OTHER_LOAD_LIMIT = 0.3
+# Steps a parallel launch unrolls (default 1): fewer launches, each of whose Python costs
+# ~100 us on an H200's host. Measured there (issue 17 note): 8 made the CUDA compile
+# 113 s instead of ~3 s, for a transient 1.2-1.5x faster together with another change,
+# so the default waits for a measurement that separates the two.
+STEPS_PER_LAUNCH_ENV = "TAICHI_BEARING_STEPS_PER_LAUNCH"
 
 
 @ti.kernel
@@ -90,25 +105,41 @@ def _team_member(m: ti.template(), member, n, step0, dt, first0, c_mass, rec_las
 
 
 @ti.kernel
-def _k_phases(m: ti.template(), p0: ti.template(), p1: ti.template(), step0: ti.i32,
-              dt: ti.f64, first0: ti.i32, c_mass: ti.f64, rec_last: ti.i32, relax: ti.i32,
-              damped: ti.template(), n_members: ti.template()):  # fmt: skip
-    """Phases ``p0 <= p < p1`` of one step, each a loop over ``n_members`` members
-    (parallel, but for one member) or member 0 alone."""
-    for p in ti.static(range(p0, p1)):
-        if ti.static(SHARED[p]):
-            ti.loop_config(serialize=n_members == 1)
-            for member in range(n_members):
-                first, dt_v, rec, t_load, t_rot = step_times(0, 1, step0, dt, first0,
-                                                             rec_last, relax)  # fmt: skip
-                step_phase(m, p, member, n_members, dt, first, dt_v, rec, t_load, t_rot,
-                           c_mass, damped)  # fmt: skip
-        else:
-            ti.loop_config(serialize=True)
-            for _ in range(1):
-                first, dt_v, rec, t_load, t_rot = step_times(0, 1, step0, dt, first0,
-                                                             rec_last, relax)  # fmt: skip
-                step_phase(m, p, 0, 1, dt, first, dt_v, rec, t_load, t_rot, c_mass, damped)
+def _k_phases(m: ti.template(), p0: ti.template(), p1: ti.template(), n: ti.template(),
+              step0: ti.i32, dt: ti.f64, first0: ti.i32, c_mass: ti.f64, rec_last: ti.i32,
+              relax: ti.i32, damped: ti.template(), n_members: ti.template()):  # fmt: skip
+    """Phases ``p0 <= p < p1`` of ``n`` steps (unrolled), each a loop over ``n_members``
+    members (parallel, but for one member) or member 0 alone."""
+    for k in ti.static(range(n)):
+        for p in ti.static(range(p0, p1)):
+            if ti.static(SHARED[p]):
+                ti.loop_config(serialize=n_members == 1)
+                for member in range(n_members):
+                    first, dt_v, rec, t_load, t_rot = step_times(k, n, step0, dt, first0,
+                                                                 rec_last, relax)  # fmt: skip
+                    step_phase(m, p, member, n_members, dt, first, dt_v, rec, t_load,
+                               t_rot, c_mass, damped)  # fmt: skip
+            else:
+                ti.loop_config(serialize=True)
+                for _ in range(1):
+                    first, dt_v, rec, t_load, t_rot = step_times(k, n, step0, dt, first0,
+                                                                 rec_last, relax)  # fmt: skip
+                    step_phase(m, p, 0, 1, dt, first, dt_v, rec, t_load, t_rot, c_mass,
+                               damped)  # fmt: skip
+
+
+def parallel_steps() -> int:
+    """Steps per launch in ``parallel`` stepping: ``$TAICHI_BEARING_STEPS_PER_LAUNCH``
+    (:data:`STEPS_PER_LAUNCH_ENV`), default 1. Each value compiles its own kernel, with
+    that many copies of the step."""
+    value = os.environ.get(STEPS_PER_LAUNCH_ENV, "1")
+    try:
+        n = int(value)
+    except ValueError:
+        n = 0
+    if n < 1:
+        raise InputError(f"{STEPS_PER_LAUNCH_ENV}: a whole number >= 1, got {value!r}")
+    return n
 
 
 def team_size(model) -> int:
@@ -194,19 +225,24 @@ def advance(model, n: int, record_last: bool = False, mode: str | None = None,
         return
     members = parallel_members()
     python = model.python_contributors
-    for k in range(n):
-        rec = int(record_last and k == n - 1)
-        args = (model.step_count, dt, int(model.first), c_mass, rec, int(relax), damped, members)
+    per_launch = 1 if python else parallel_steps()
+    done = 0
+    while done < n:
+        chunk = n - done
         for c in contributors:
-            c.before_steps(model, 1)
+            chunk = max(1, min(chunk, c.before_steps(model, chunk)))
+        k = per_launch if chunk >= per_launch else 1
+        rec = int(record_last and done + k == n)
+        args = (model.step_count, dt, int(model.first), c_mass, rec, int(relax), damped, members)
         if python:
-            _k_phases(model, 0, GATHER, *args)
+            _k_phases(model, 0, GATHER, 1, *args)
             for c in python:
                 c.add_forces(model, model.step_count * dt)
-            _k_phases(model, GATHER, N_PHASES, *args)
+            _k_phases(model, GATHER, N_PHASES, 1, *args)
         else:
-            _k_phases(model, 0, N_PHASES, *args)
-        _after(model, contributors, 1, relax)
+            _k_phases(model, 0, N_PHASES, k, *args)
+        _after(model, contributors, k, relax)
+        done += k
 
 
 def _after(model, contributors, n: int, relax: bool) -> None:
