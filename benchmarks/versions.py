@@ -56,7 +56,9 @@ def run_case(
     cmd = [sys.executable, "-m", "taichi_bearing", str(case_path), "--out", str(out)]
     for item in overrides:
         cmd += ["--set", item]
-    env = dict(os.environ, PYTHONPATH=str(source), TAICHI_BEARING_CACHE_DIR=str(cache_dir))
+    # that checkout first, then whatever the caller's path held (e.g. carried packages)
+    path = os.pathsep.join(p for p in (str(source), os.environ.get("PYTHONPATH")) if p)
+    env = dict(os.environ, PYTHONPATH=path, TAICHI_BEARING_CACHE_DIR=str(cache_dir))
     res = subprocess.run(cmd, cwd=source, env=env, capture_output=quiet, text=True)
     if res.returncode != 0:
         tail = (res.stderr or "")[-2000:] if quiet else ""

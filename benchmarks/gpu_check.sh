@@ -1,0 +1,60 @@
+#!/usr/bin/env bash
+# The GPU checks in one call on a machine with an NVIDIA GPU (issue 17, goal 5):
+#   1. bench_gpu.py: 3 ms of the default case on cuda (one step a launch, and 4), and on
+#      the CPU, side by side (times, element-steps/s, history differences before the first
+#      spall exit);
+#   2. profile_gpu.py: where a GPU step's wall time goes (host launches or device tasks);
+#   3. the whole default case with --arch cuda (the main command; checks, times).
+# Each stage's limit must leave room for compiling: Taichi writes its offline cache when a
+# process ends, so a process killed while compiling leaves nothing for the next (seen: 8
+# steps a launch took 113 s to compile on an H200's host).
+# Logs and the returned files go to $OUT (default /tmp/gpu_check). Packages missing on a
+# machine without network can be carried in .gpu/ (taichi unpacked from a tarball, other
+# wheels, a numpy 1.26 wheel in .gpu/np/ used only if Taichi fails to start with the
+# installed numpy).
+#
+#   bash benchmarks/gpu_check.sh
+set -u -o pipefail
+OUT=${OUT:-/tmp/gpu_check}
+mkdir -p "$OUT"
+LOG=$OUT/log.txt
+export PYTHONUNBUFFERED=1 TI_SKIP_VERSION_CHECK=ON
+PY=${PYTHON:-python3}
+if [ -d .gpu ]; then
+    SITE=/tmp/site
+    mkdir -p $SITE
+    tar -xJf .gpu/taichi_trim.tar.xz -C $SITE || exit 1
+    $PY -m pip install -q --no-index --no-deps --no-compile --no-cache-dir --target $SITE \
+        .gpu/*.whl || exit 1
+    export PYTHONPATH=$SITE
+fi
+nvidia-smi --query-gpu=name,driver_version,memory.total,clocks.sm --format=csv | tee -a "$LOG"
+start='import taichi as ti; ti.init(arch=ti.cuda, default_fp=ti.f64); '
+start+='print("taichi on", ti.lang.impl.current_cfg().arch)'
+msg=$($PY -c "$start" 2>&1 | tail -5)
+echo "$msg" | tee -a "$LOG"
+if [[ "$msg" != *"taichi on Arch.cuda"* && -d .gpu/np ]]; then
+    echo "Taichi did not start on cuda; retrying with numpy 1.26" | tee -a "$LOG"
+    $PY -m pip install -q --no-index --no-deps --no-compile --target $SITE .gpu/np/*.whl
+    $PY -c "$start" 2>&1 | tail -5 | tee -a "$LOG"
+fi
+
+echo "== 1. bench_gpu: 3 ms, ${ARCHS:=cuda cuda:4 cpu}" | tee -a "$LOG"
+# shellcheck disable=SC2086  # the backends are separate words
+timeout "${BENCH_S:-240}" $PY benchmarks/bench_gpu.py --archs $ARCHS --duration-ms 3 \
+    --keep /tmp/bg 2>&1 | tee -a "$LOG"
+cp /tmp/bg/run_cuda/histories.parquet "$OUT/h3_cuda.parquet" 2>/dev/null
+cp /tmp/bg/run_cpu/histories.parquet "$OUT/h3_cpu.parquet" 2>/dev/null
+
+echo "== 2. profile_gpu: 2000 steps" | tee -a "$LOG"
+TI_KERNEL_PROFILER=1 TAICHI_BEARING_CACHE_DIR=/tmp/bg/cache_cuda timeout "${PROFILE_S:-150}" \
+    $PY benchmarks/profile_gpu.py --arch cuda --steps 2000 2>&1 | grep -v '^\[Taichi\]' \
+    | head -80 | tee -a "$LOG"
+
+echo "== 3. the whole default case on cuda" | tee -a "$LOG"
+TAICHI_BEARING_CACHE_DIR=/tmp/bg/cache_cuda timeout "${FULL_S:-240}" \
+    $PY -m taichi_bearing cases/line_spall.yaml --arch cuda --no-post --out /tmp/full \
+    --set output.frames=false --progress-interval 10 2>&1 | tee -a "$LOG"
+cp /tmp/full/summary.json "$OUT/summary_full.json" 2>/dev/null
+cp /tmp/full/histories.parquet "$OUT/h_full.parquet" 2>/dev/null
+exit 0

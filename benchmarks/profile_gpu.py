@@ -1,0 +1,86 @@
+"""Where a step's wall time goes on a backend launching one kernel per step (a GPU).
+
+Builds the case (default ``cases/line_spall.yaml``) on ``--arch``, preloads it, and times
+``--steps`` transient steps three ways: the wall time per step (synchronised); the same
+under cProfile (the host's Python share: argument packing and launching); and, with
+``TI_KERNEL_PROFILER=1`` in the environment, Taichi's per-task device times (the
+device's share). Wall per step well above the device's share means the run is bound by
+the host's launches, not by the device.
+
+    TI_KERNEL_PROFILER=1 python benchmarks/profile_gpu.py --arch cuda --steps 2000
+"""
+
+# No `from __future__ import annotations`: Taichi reads kernel annotations at definition.
+import argparse
+import cProfile
+import os
+import pstats
+import sys
+import time
+from pathlib import Path
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
+
+
+def main() -> int:
+    p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    p.add_argument("case", nargs="?", default="cases/line_spall.yaml")
+    p.add_argument("--arch", default="cuda")
+    p.add_argument("--threads", type=int, default=0)
+    p.add_argument("--steps", type=int, default=2000)
+    p.add_argument("--set", dest="overrides", action="append", default=[])
+    args = p.parse_args()
+
+    import taichi as ti
+
+    from taichi_bearing.case import load_case
+    from taichi_bearing.simulate import build_model, preload, stage_mesh
+    from taichi_bearing.solver.engine import steps_per_sample
+
+    case = load_case(args.case, args.overrides)
+    mesh, _ = stage_mesh(case)
+    bm = build_model(case, mesh, args.arch, args.threads)
+    model = bm.model
+    t0 = time.perf_counter()
+    pre = preload(bm)
+    print(f"preload: {pre['steps']} steps in {time.perf_counter() - t0:.1f} s", flush=True)
+    model.set_initial_velocities()
+    model.set_dt(steps_per_sample(model.dt_stable, case.run.sample_rate)[1])
+    model.advance(50)
+    ti.sync()
+
+    n = args.steps
+    t0 = time.perf_counter()
+    model.advance(n)
+    ti.sync()
+    wall = (time.perf_counter() - t0) / n
+    rate = mesh.n_elements / wall
+    print(f"{mesh.n_elements} elements, stepping {sorted(model.steps_by_mode)}: "
+          f"{wall * 1e6:.1f} us per step wall, {rate:.3g} element-steps/s")  # fmt: skip
+
+    prof = cProfile.Profile()
+    prof.enable()
+    model.advance(n)
+    ti.sync()
+    prof.disable()
+    stats = pstats.Stats(prof)
+    total = sum(v[2] for v in stats.stats.values())  # tottime over every function
+    # Taichi's C++ launch (on a GPU: the tasks' launches, not their run) against the rest
+    launch = sum(v[2] for k, v in stats.stats.items() if "taichi_python.launch_kernel" in k[2])
+    us = 1e6 / n
+    print(f"host under cProfile: {total * us:.1f} us per step, of which in Taichi's C++ "
+          f"launch {launch * us:.1f} us, Python {(total - launch) * us:.1f} us")  # fmt: skip
+    stats.sort_stats("tottime").print_stats(8)
+
+    if os.environ.get("TI_KERNEL_PROFILER") == "1":
+        ti.profiler.clear_kernel_profiler_info()
+        model.advance(n)
+        ti.sync()
+        device = ti.profiler.get_kernel_profiler_total_time()
+        print(f"device tasks: {device / n * 1e6:.1f} us per step")
+        ti.profiler.print_kernel_profiler_info("count")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
