@@ -4,13 +4,16 @@ Usage::
 
     python benchmarks/bench_solver.py [--sizes 10000 40000 160000] [--threads 1 2]
                                       [--arch cpu] [--json FILE] [--seconds 1.0]
+                                      [--order mesh morton random]
 
 Each Taichi thread count runs in its own subprocess (threads are fixed at ``ti.init``).
 Compile time (first call) is reported apart and excluded from the rate. The NumPy
 baseline is the same element (1-point St Venant-Kirchhoff quad with FB hourglass forces,
 lumped-mass leapfrog) written with vectorised numpy in this file. The per-step overhead is
 measured on a 2k-element mesh as time per step minus elements x the per-element time of
-the 40k mesh.
+the 40k mesh. ``--order`` numbers the square mesh's nodes and elements as the mesher does
+(row by row), along a Morton (Z-order) curve, or at random: how much the cost per element
+owes to memory locality (each order its own row, ``taichi-cpu-morton`` etc.).
 """
 
 from __future__ import annotations
@@ -21,6 +24,7 @@ import os
 import subprocess
 import sys
 import time
+from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
@@ -35,9 +39,43 @@ from taichi_bearing.solver.materials import Material, materials_per_element  # n
 STEEL = Material(210e9, 0.3, 7850.0)
 
 
-def square_mesh(n_elements: int):
+def square_mesh(n_elements: int, order: str = "mesh"):
+    """A square of about ``n_elements`` quads, numbered in ``order``."""
     n = max(2, round(np.sqrt(n_elements)))
-    return rectangle_mesh(0.1, 0.1, n, n)
+    mesh = rectangle_mesh(0.1, 0.1, n, n)
+    if order == "mesh":
+        return mesh
+    if order == "random":
+        rng = np.random.default_rng(1)
+        node_order = rng.permutation(mesh.n_nodes)
+        element_order = rng.permutation(mesh.n_elements)
+    else:
+        node_order = np.argsort(morton_codes(mesh.nodes), kind="stable")
+        centroids = mesh.nodes[mesh.elements].mean(axis=1)
+        element_order = np.argsort(morton_codes(centroids), kind="stable")
+    new_index = np.empty(mesh.n_nodes, dtype=np.int64)
+    new_index[node_order] = np.arange(mesh.n_nodes)
+    return replace(
+        mesh,
+        nodes=mesh.nodes[node_order],
+        elements=new_index[mesh.elements[element_order]],
+        element_part=mesh.element_part[element_order],
+        node_sets={k: new_index[v] for k, v in mesh.node_sets.items()},
+        surfaces={k: new_index[v] for k, v in mesh.surfaces.items()},
+    )
+
+
+def morton_codes(points: np.ndarray, bits: int = 16) -> np.ndarray:
+    """Z-order code of each point: its coordinates scaled to ``bits``-bit integers, their
+    bits interleaved."""
+    lo, hi = points.min(axis=0), points.max(axis=0)
+    q = ((points - lo) / np.maximum(hi - lo, 1e-300) * (2**bits - 1)).astype(np.uint64)
+    code = np.zeros(len(points), dtype=np.uint64)
+    for b in range(bits):
+        for axis in range(2):
+            bit = (q[:, axis] >> np.uint64(b)) & np.uint64(1)
+            code |= bit << np.uint64(2 * b + axis)
+    return code
 
 
 def initial_velocity(n_nodes: int) -> np.ndarray:
@@ -128,7 +166,9 @@ def _time_steps(model, n: int, mode: str | None, repeats: int = 3) -> float:
     return best / n
 
 
-def taichi_worker(arch: str, threads: int, sizes: list[int], seconds: float) -> list[dict]:
+def taichi_worker(
+    arch: str, threads: int, sizes: list[int], seconds: float, orders: list[str]
+) -> list[dict]:
     import tempfile
 
     from taichi_bearing.solver.backend import init_taichi
@@ -137,8 +177,8 @@ def taichi_worker(arch: str, threads: int, sizes: list[int], seconds: float) -> 
     # A fresh offline cache, so the reported compile time is a real compilation.
     init_taichi(arch, threads, cache_dir=tempfile.mkdtemp(prefix="bench_solver_cache_"))
     rows = []
-    for ne_target in sizes:
-        mesh = square_mesh(ne_target)
+    for ne_target, order in ((n, o) for n in sizes for o in orders):
+        mesh = square_mesh(ne_target, order)
         model = Model(mesh, STEEL)
         model.set_state(v=initial_velocity(mesh.n_nodes))
         t0 = time.perf_counter()
@@ -152,7 +192,7 @@ def taichi_worker(arch: str, threads: int, sizes: list[int], seconds: float) -> 
         per_step = _time_steps(model, n, mode=None)  # as a run steps it
         rows.append(
             {
-                "impl": f"taichi-{arch}",
+                "impl": f"taichi-{arch}" + ("" if order == "mesh" else f"-{order}"),
                 "threads": threads,
                 "elements": mesh.n_elements,
                 "element_steps_per_s": mesh.n_elements / per_step,
@@ -162,7 +202,7 @@ def taichi_worker(arch: str, threads: int, sizes: list[int], seconds: float) -> 
         )
     # Per-step overhead on a 2k mesh: default stepping (serial kernel below 3000 elements)
     # and one launch per step; overhead = time per step - elements x per-element time.
-    ref = next((r for r in rows if abs(r["elements"] - 40_000) < 2000), rows[-1])
+    ref = next((r for r in rows if abs(r["elements"] - 40_000) < 2000), rows[0])
     per_element = 1.0 / ref["element_steps_per_s"]
     mesh = square_mesh(2000)
     model = Model(mesh, STEEL)
@@ -184,7 +224,9 @@ def taichi_worker(arch: str, threads: int, sizes: list[int], seconds: float) -> 
     return rows
 
 
-def run_worker_subprocess(arch: str, threads: int, sizes: list[int], seconds: float):
+def run_worker_subprocess(
+    arch: str, threads: int, sizes: list[int], seconds: float, orders: list[str]
+):
     cmd = [
         sys.executable,
         str(Path(__file__).resolve()),
@@ -197,6 +239,8 @@ def run_worker_subprocess(arch: str, threads: int, sizes: list[int], seconds: fl
         str(seconds),
         "--sizes",
         *map(str, sizes),
+        "--order",
+        *orders,
     ]
     out = subprocess.run(cmd, capture_output=True, text=True, check=False, env=os.environ.copy())
     if out.returncode != 0:
@@ -223,18 +267,20 @@ def print_table(rows: list[dict]) -> None:
             f"{r['element_steps_per_s']:11.3e} {r['us_per_step']:9.1f} {r['compile_s']:9.2f} "
             f"{speedup:8.1f} {over:11.1f}"
         )
+    impls = sorted({r["impl"] for r in rows if "overhead" not in r["impl"]} - {"numpy"})
     for threads in sorted({r["threads"] for r in rows if r["impl"].startswith("taichi")}):
-        t = {
-            r["elements"]: r["us_per_step"]
-            for r in rows
-            if r["threads"] == threads and r["impl"] in ("taichi-cpu", "taichi-cuda")
-        }
-        big = sorted(t)
-        if len(big) >= 2:
-            print(
-                f"time ratio {big[-1]}/{big[-2]} elements, {threads} thread(s): "
-                f"{t[big[-1]] / t[big[-2]]:.2f}"
-            )
+        for impl in impls:
+            t = {
+                r["elements"]: r["us_per_step"]
+                for r in rows
+                if r["threads"] == threads and r["impl"] == impl
+            }
+            big = sorted(t)
+            if len(big) >= 2:
+                print(
+                    f"time ratio {big[-1]}/{big[-2]} elements, {impl}, {threads} thread(s): "
+                    f"{t[big[-1]] / t[big[-2]]:.2f}"
+                )
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -244,15 +290,19 @@ def main(argv: list[str] | None = None) -> int:
     p.add_argument("--arch", default="cpu", choices=["cpu", "cuda", "vulkan"])
     p.add_argument("--seconds", type=float, default=1.0, help="timed seconds per case")
     p.add_argument("--json", type=Path, default=None, help="also write the rows as JSON")
+    p.add_argument(
+        "--order", nargs="+", default=["mesh"], choices=["mesh", "morton", "random"],
+        help="node and element numbering of the square meshes",
+    )  # fmt: skip
     p.add_argument("--worker", action="store_true", help=argparse.SUPPRESS)
     args = p.parse_args(argv)
     if args.worker:
-        rows = taichi_worker(args.arch, args.threads[0], args.sizes, args.seconds)
+        rows = taichi_worker(args.arch, args.threads[0], args.sizes, args.seconds, args.order)
         print("ROWS " + json.dumps(rows))
         return 0
     rows = bench_numpy(args.sizes, args.seconds)
     for threads in args.threads:
-        rows += run_worker_subprocess(args.arch, threads, args.sizes, args.seconds)
+        rows += run_worker_subprocess(args.arch, threads, args.sizes, args.seconds, args.order)
     print_table(rows)
     if args.json is not None:
         tmp = args.json.with_name(args.json.name + ".tmp")
