@@ -18,7 +18,6 @@ import statistics
 import subprocess
 import sys
 import time
-from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
@@ -26,7 +25,7 @@ import numpy as np
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
-from benchmarks.bench_solver import morton_codes  # noqa: E402
+from benchmarks.bench_solver import morton_codes, renumbered  # noqa: E402
 
 ORDERS = ("mesh", "morton")
 
@@ -39,17 +38,7 @@ def morton_within_parts(mesh):
     node_order = np.lexsort((morton_codes(mesh.nodes), part_of_node))
     centroids = mesh.nodes[mesh.elements].mean(axis=1)
     element_order = np.lexsort((morton_codes(centroids), mesh.element_part))
-    new = np.empty(mesh.n_nodes, np.int64)
-    new[node_order] = np.arange(mesh.n_nodes)
-    return replace(
-        mesh,
-        nodes=mesh.nodes[node_order],
-        elements=new[mesh.elements[element_order]],
-        element_part=mesh.element_part[element_order],
-        node_sets={k: new[v] for k, v in mesh.node_sets.items()},
-        surfaces={k: new[v] for k, v in mesh.surfaces.items()},
-        sensor_nodes={k: int(new[v]) for k, v in mesh.sensor_nodes.items()},
-    )
+    return renumbered(mesh, node_order, element_order)
 
 
 def worker(case_path: str, order: str, threads: int, steps: int) -> dict:

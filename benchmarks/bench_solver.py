@@ -53,15 +53,22 @@ def square_mesh(n_elements: int, order: str = "mesh"):
         node_order = np.argsort(morton_codes(mesh.nodes), kind="stable")
         centroids = mesh.nodes[mesh.elements].mean(axis=1)
         element_order = np.argsort(morton_codes(centroids), kind="stable")
-    new_index = np.empty(mesh.n_nodes, dtype=np.int64)
-    new_index[node_order] = np.arange(mesh.n_nodes)
+    return renumbered(mesh, node_order, element_order)
+
+
+def renumbered(mesh, node_order: np.ndarray, element_order: np.ndarray):
+    """``mesh`` with node ``node_order[k]`` as node k and element ``element_order[k]`` as
+    element k (connectivity, parts, node sets, surfaces and sensors follow)."""
+    new = np.empty(mesh.n_nodes, dtype=np.int64)
+    new[node_order] = np.arange(mesh.n_nodes)
     return replace(
         mesh,
         nodes=mesh.nodes[node_order],
-        elements=new_index[mesh.elements[element_order]],
+        elements=new[mesh.elements[element_order]],
         element_part=mesh.element_part[element_order],
-        node_sets={k: new_index[v] for k, v in mesh.node_sets.items()},
-        surfaces={k: new_index[v] for k, v in mesh.surfaces.items()},
+        node_sets={k: new[v] for k, v in mesh.node_sets.items()},
+        surfaces={k: new[v] for k, v in mesh.surfaces.items()},
+        sensor_nodes={k: int(new[v]) for k, v in mesh.sensor_nodes.items()},
     )
 
 
