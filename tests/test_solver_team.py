@@ -11,11 +11,17 @@ import taichi as ti
 from test_contact_cage import OMEGA, orbiting_roller
 from test_contact_disk import thrown_disk
 
+from taichi_bearing.mesh.primitives import rectangle_mesh
 from taichi_bearing.solver import stepping
 from taichi_bearing.solver.backend import GPU_MEMBERS, current_threads, init_taichi
 from taichi_bearing.solver.contact import ContactParameters
+from taichi_bearing.solver.damping import StiffnessDamping
+from taichi_bearing.solver.loads import FixedNodes, NodalForces, RigidPlate, uniform_load
+from taichi_bearing.solver.materials import Material
 from taichi_bearing.solver.model import Model
 from taichi_bearing.solver.team import share
+
+STEEL = Material(210e9, 0.3, 7850.0)
 
 
 @pytest.fixture(scope="module", autouse=True)
@@ -138,3 +144,44 @@ def test_a_gpus_split_of_the_step_gives_the_same_motion(monkeypatch):
     np.testing.assert_array_equal(out["parallel"][0], out["serial"][0])
     np.testing.assert_array_equal(out["parallel"][1], out["serial"][1])
     assert out["parallel"][2] == out["serial"][2]
+
+
+def loaded_block(repeat_a_node: bool) -> Model:
+    """A steel block on a fixed base, pressed down through a rigid plate on its top by a
+    ramped load (every load on a node of its own, or one node loaded twice)."""
+    mesh = rectangle_mesh(0.02, 0.01, 40, 20)
+    top = mesh.node_sets["top"]
+    loads = [uniform_load(top, (0.0, -2.0e6), ramp_time=2e-6)]
+    if repeat_a_node:
+        loads.append(NodalForces([top[3]], [(1.0e4, -5.0e4)]))
+    return Model(mesh, STEEL, constraints=[FixedNodes(mesh.node_sets["bottom"]),
+                                           RigidPlate(top, (0.0, 1.0))],
+                 loads=loads, damping=StiffnessDamping(0.02, 20e3))  # fmt: skip
+
+
+@pytest.mark.parametrize("repeat_a_node", [False, True])
+def test_the_plate_and_the_loads_are_the_same_in_every_mode(monkeypatch, repeat_a_node):
+    """The loads (split among the members, or member 0's where a node has two) and the
+    rigid plate (each plate node sums the plate's velocity from the plate forces) step
+    alike on one thread, in a team and split among a GPU's members 4 steps a launch;
+    the plate stays rigid and is pushed down."""
+    out = {}
+    for mode in ("serial", "team", "parallel"):
+        if mode == "parallel":
+            monkeypatch.setattr(stepping, "parallel_members", lambda: GPU_MEMBERS)
+            monkeypatch.setattr(stepping, "parallel_steps", lambda: 4)
+        model = loaded_block(repeat_a_node)
+        assert model.loads_unique is not repeat_a_node
+        for _ in range(20):
+            model.advance(25, record_last=True, mode=mode)
+        out[mode] = (model.positions(), model.velocities(), model.energies())
+        # past the ramp, every load is on its node (a node loaded twice carries both)
+        total = sum(load.total for load in model.loads)
+        np.testing.assert_allclose(model.f_load.to_numpy().sum(axis=0), total, rtol=1e-12)
+    top = loaded_block(repeat_a_node).plate.nodes
+    vy = out["serial"][1][top, 1]
+    assert vy.min() < 0 and np.ptp(vy) == 0.0  # one velocity for the whole plate, downward
+    for mode in ("team", "parallel"):
+        np.testing.assert_array_equal(out[mode][0], out["serial"][0])
+        np.testing.assert_array_equal(out[mode][1], out["serial"][1])
+        assert out[mode][2] == out["serial"][2]
