@@ -12,6 +12,7 @@ from taichi_bearing.mesh.primitives import disk_mesh, rectangle_mesh
 from taichi_bearing.solver.backend import init_taichi
 from taichi_bearing.solver.contact import ContactPair, ContactParameters, PenaltyContact
 from taichi_bearing.solver.contact_bodies import merge_meshes
+from taichi_bearing.solver.contact_search import SCAN_BLOCK
 from taichi_bearing.solver.contributor import ForceContributor, add_force
 from taichi_bearing.solver.loads import FixedNodes, uniform_load
 from taichi_bearing.solver.materials import Material
@@ -312,3 +313,26 @@ def test_active_query_list_skips_far_nodes_and_changes_nothing():
     scale = np.abs(fn_all).max()
     np.testing.assert_allclose(fn_list, fn_all, rtol=0, atol=1e-9 * scale)
     np.testing.assert_allclose(x_list, x_all, rtol=0, atol=1e-12)
+
+
+def test_grid_starts_and_active_list_follow_their_counts():
+    """The grid's cell starts (running totals of the cells' counts, by blocks of
+    SCAN_BLOCK cells) end where the filling of each cell ended, and the active list holds
+    exactly the queries flagged near, in query order, at every rebuild as the disk moves."""
+    params = ContactParameters(friction_static=0.3, friction_dynamic=0.2)
+    model, contact, _ = thrown_disk(params, (2.0, -1.0), omega=-300.0)
+    assert contact._nx * contact._ny > SCAN_BLOCK  # several blocks of cells
+    checked = set()
+    for _ in range(40):
+        model.advance(50)
+        if contact.rebuilds in checked:
+            continue
+        checked.add(contact.rebuilds)
+        start = contact.cell_start.to_numpy()
+        assert start[0] == 0 and (np.diff(start) >= 0).all()
+        np.testing.assert_array_equal(contact.cell_fill.to_numpy(), start[1:])
+        near = contact.q_near.to_numpy()[: contact.n_query]
+        n = contact.n_active
+        assert n == near.sum()
+        np.testing.assert_array_equal(contact.q_active.to_numpy()[:n], np.flatnonzero(near))
+    assert len(checked) > 5

@@ -52,6 +52,7 @@ from taichi_bearing.solver.contact_search import (
     candidate,
     cell_xy,
     list_active,
+    scan_blocks,
     surface_motion,
 )
 from taichi_bearing.solver.contact_setup import (
@@ -213,6 +214,9 @@ class PenaltyContact(ForceContributor):
         self.x_ref = v2(len(track))
         self.cell_start = f(ti.i32, shape=g.n_cells + 1)
         self.cell_fill = f(ti.i32, shape=g.n_cells)
+        # running totals of blocks of cells and of queries (contact_search.SCAN_BLOCK)
+        self.cell_block = f(ti.i32, shape=scan_blocks(g.n_cells))
+        self.query_block = f(ti.i32, shape=scan_blocks(nq))
         self.cell_items = f(ti.i32, shape=self.cap)
         self.cell_surf = f(ti.i32, shape=self.cap)  # surface of each item (contiguous read)
         self.status = f(ti.i32, shape=2)  # 0: overflow flag, 1: active query count

@@ -7,7 +7,45 @@ segment (the only ones the step visits)."""
 # No `from __future__ import annotations`: Taichi reads kernel annotations at definition.
 import taichi as ti
 
-__all__ = ["build_grid", "candidate", "cell_xy", "list_active", "seg_cells", "surface_motion"]
+__all__ = [
+    "SCAN_BLOCK",
+    "build_grid",
+    "candidate",
+    "cell_xy",
+    "list_active",
+    "scan_blocks",
+    "seg_cells",
+    "surface_motion",
+]
+
+# Running totals over many items (grid cells, queries) go by blocks: each block's total in
+# parallel, a serial running total over the blocks, then each block's items in parallel,
+# in order within the block. The same integers as one serial loop; but on a GPU a serial
+# loop runs on one thread, and over every cell it took 1.4 ms a build on an H200.
+SCAN_BLOCK = 256
+
+
+def scan_blocks(n: int) -> int:
+    """Blocks of :data:`SCAN_BLOCK` items that ``n`` items make (at least one)."""
+    return max(1, -(-n // SCAN_BLOCK))
+
+
+@ti.func
+def block_range(b, n):
+    """Items ``[lo, hi)`` of block ``b`` of ``n`` items."""
+    return b * SCAN_BLOCK, ti.min((b + 1) * SCAN_BLOCK, n)
+
+
+@ti.func
+def exclusive_totals(blocks: ti.template(), nb):
+    """Replace the first ``nb`` block totals by the sum of the blocks before each; return
+    the sum of all."""
+    run = 0
+    for b in range(nb):
+        t = blocks[b]
+        blocks[b] = run
+        run += t
+    return run
 
 
 @ti.func
@@ -39,9 +77,25 @@ def build_grid(c: ti.template(), x: ti.template()):
         for cy in range(y0, y1 + 1):
             for cx in range(x0, x1 + 1):
                 ti.atomic_add(c.cell_start[cy * nx + cx + 1], 1)
+    # cell_start[cell + 1] holds the cell's count: a running total makes it the next
+    # cell's start
+    n_cells = nx * ny
+    n_blocks = (n_cells + SCAN_BLOCK - 1) // SCAN_BLOCK
+    for b in range(n_blocks):
+        lo, hi = block_range(b, n_cells)
+        total = 0
+        for cell in range(lo, hi):
+            total += c.cell_start[cell + 1]
+        c.cell_block[b] = total
     ti.loop_config(serialize=True)
-    for cell in range(nx * ny):
-        c.cell_start[cell + 1] += c.cell_start[cell]
+    for _ in range(1):
+        exclusive_totals(c.cell_block, n_blocks)
+    for b in range(n_blocks):
+        lo, hi = block_range(b, n_cells)
+        run = c.cell_block[b]
+        for cell in range(lo, hi):
+            run += c.cell_start[cell + 1]
+            c.cell_start[cell + 1] = run
     for cell in range(nx * ny):
         c.cell_fill[cell] = c.cell_start[cell]
     c.status[0] = 0
@@ -112,16 +166,26 @@ def list_active(c: ti.template(), x: ti.template()):
                     if s >= 0 and d2 <= reach * reach:
                         near = 1
         c.q_near[q] = near
-    ti.loop_config(serialize=True)  # ordered, reproducible list
+    # the list in query order (reproducible), by blocks of queries
+    n_blocks = (c.n_query + SCAN_BLOCK - 1) // SCAN_BLOCK
+    for b in range(n_blocks):
+        lo, hi = block_range(b, c.n_query)
+        count = 0
+        for q in range(lo, hi):
+            count += c.q_near[q]
+        c.query_block[b] = count
+    ti.loop_config(serialize=True)
     for _ in range(1):
-        n = 0
-        for q in range(c.n_query):
+        c.status[1] = exclusive_totals(c.query_block, n_blocks)
+    for b in range(n_blocks):
+        lo, hi = block_range(b, c.n_query)
+        n = c.query_block[b]
+        for q in range(lo, hi):
             if c.q_near[q] != 0:
                 c.q_active[n] = q
                 n += 1
             else:
                 c._open(q)
-        c.status[1] = n
 
 
 @ti.kernel
