@@ -9,9 +9,12 @@
 # process ends, so a process killed while compiling leaves nothing for the next (seen: 8
 # steps a launch took 113 s to compile on an H200's host).
 # Logs and the returned files go to $OUT (default /tmp/gpu_check). Packages missing on a
-# machine without network can be carried in .gpu/ (taichi unpacked from a tarball, other
-# wheels, a numpy 1.26 wheel in .gpu/np/ used only if Taichi fails to start with the
-# installed numpy).
+# machine without network can be carried in .gpu/ (ignored by git): taichi_trim.tar.xz
+# (the taichi 1.7.4 cp312 manylinux wheel unzipped, without taichi/_lib/c_api,
+# taichi-1.7.4.data, taichi/assets and taichi/examples: 23 MB instead of 56), the meshio
+# and dill wheels, and a numpy 1.26 wheel in .gpu/np/ used only if Taichi fails to start
+# with the installed numpy. Fetch the wheels with `pip download --no-deps --only-binary
+# :all: --python-version 3.12 --platform manylinux_2_27_x86_64 ...`.
 #
 #   bash benchmarks/gpu_check.sh
 set -u -o pipefail
