@@ -170,9 +170,7 @@ def plate_velocity(m: ti.template(), dt_v, c_mass):
     vo = m.plate_vo[None]
     vn = vo + dt_v * f_sum / m_sum
     if c_mass > 0.0:
-        vn = ((1.0 - 0.5 * c_mass * dt_v) * vo + dt_v * f_sum / m_sum) / (
-            1.0 + 0.5 * c_mass * dt_v
-        )
+        vn = ((1.0 - 0.5 * c_mass * dt_v) * vo + dt_v * f_sum / m_sum) / (1.0 + 0.5 * c_mass * dt_v)
     return vn
 
 
