@@ -265,7 +265,6 @@ class Model:
         self.n_plate = len(self.plate.nodes) if plates else 0
         self.plate_node = _scalar_field(self.n_plate, ti.i32)
         self.plate_dir = ti.Vector.field(2, ti.f64, shape=())
-        self.plate_v = ti.field(ti.f64, shape=())
         # per plate node, its force along the plate's direction (summed by every plate
         # node in one order), and the plate's velocity before the step
         self.plate_f = _scalar_field(self.n_plate)

@@ -212,10 +212,7 @@ def node_update(m: ti.template(), i, t_rot, dt, dt_v, first, c_mass, rec):
         d = m.held_dir[i]
         vn -= vn.dot(d) * d
     if flag & PLATE:
-        pv = plate_velocity(m, dt_v, c_mass)
-        if i == m.plate_node[0]:
-            m.plate_v[None] = pv
-        vn = pv * m.plate_dir[None]
+        vn = plate_velocity(m, dt_v, c_mass) * m.plate_dir[None]
     xn = xo + dt * vn
     if flag & ROTATED:
         g = m.rot_group[i]
