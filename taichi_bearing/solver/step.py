@@ -130,6 +130,8 @@ def apply_loads(m: ti.template(), t_load, member, n_members: ti.template()):
     if ti.static(m.loads_unique):
         k0, k1 = share(m.n_load, member, n_members)
         for k in range(k0, k1):
+            # zero, then add, as member 0 does below: the same bits (a plain store would
+            # keep a -0.0 that 0.0 + -0.0 turns into 0.0)
             m.f_load[m.load_node[k]] = ti.Vector.zero(ti.f64, 2)
             m.f_load[m.load_node[k]] += load_amplitude(m, k, t_load) * m.load_force[k]
     elif member == 0:
