@@ -35,7 +35,7 @@ from taichi_bearing.solver.loads import (
     RigidVelocity,
 )
 from taichi_bearing.solver.materials import Material, materials_per_element
-from taichi_bearing.solver.step import EXTRA, FIXED, HELD, LOADED, PLATE, ROTATED
+from taichi_bearing.solver.step import EXTRA, FIXED, HELD, LOADED, PLATE, ROTATED, SENSOR
 from taichi_bearing.solver.team import TeamState
 from taichi_bearing.solver.time_step import CriticalStep
 
@@ -319,6 +319,9 @@ class Model:
         self.sensor_sum = _vec_field(ns, 6)  # ux, uy, vx, vy, ax, ay
         if ns:
             self.sensor_node.from_numpy(ids)
+        self.bc_np &= ~SENSOR
+        self.bc_np[ids] |= SENSOR  # the node update stores their accelerations
+        self.bc.from_numpy(self.bc_np)
 
     def part_nodes(self, part: str | int) -> np.ndarray:
         """Indices of the nodes of one part."""
