@@ -33,19 +33,12 @@ def main() -> int:
 
     import taichi as ti
 
-    from taichi_bearing.case import load_case
-    from taichi_bearing.simulate import build_model, preload, stage_mesh
-    from taichi_bearing.solver.engine import steps_per_sample
+    from benchmarks.preloaded import preloaded_model
 
-    case = load_case(args.case, args.overrides)
-    mesh, _ = stage_mesh(case)
-    bm = build_model(case, mesh, args.arch, args.threads)
+    case, mesh, bm, preload_s = preloaded_model(args.case, args.overrides, args.arch,
+                                                args.threads)  # fmt: skip
     model = bm.model
-    t0 = time.perf_counter()
-    pre = preload(bm)
-    print(f"preload: {pre['steps']} steps in {time.perf_counter() - t0:.1f} s", flush=True)
-    model.set_initial_velocities()
-    model.set_dt(steps_per_sample(model.dt_stable, case.run.sample_rate)[1])
+    print(f"preload: {preload_s:.1f} s", flush=True)
     model.advance(50)
     ti.sync()
 

@@ -48,28 +48,16 @@ def main() -> int:
 
     import taichi as ti
 
+    from benchmarks.preloaded import preloaded_model
     from taichi_bearing.case import load_case
-    from taichi_bearing.simulate import build_model, preload, stage_mesh
+    from taichi_bearing.simulate import build_model
     from taichi_bearing.solver import Model
     from taichi_bearing.solver.element_law import element_forces
-    from taichi_bearing.solver.engine import steps_per_sample
-    from taichi_bearing.solver.step import (
-        CLEAR,
-        FORCES,
-        GATHER,
-        NODES,
-        SENSORS,
-        step_phase,
-        step_times,
-    )
+    from taichi_bearing.solver.step import CLEAR, FORCES, GATHER, NODES, SENSORS
+    from taichi_bearing.solver.stepping import advance_phases
 
-    case = load_case(args.case, args.overrides)
-    mesh, _ = stage_mesh(case)
-    bm = build_model(case, mesh, "cpu", 1)
+    case, mesh, bm, _ = preloaded_model(args.case, args.overrides)
     model = bm.model
-    preload(bm)
-    model.set_initial_velocities()
-    model.set_dt(steps_per_sample(model.dt_stable, case.run.sample_rate)[1])
     model.advance(1)  # the half first step, and the contributors frozen
     s = bm.setup
     bare = Model(mesh, s.material, thickness=s.thickness, constraints=s.constraints,
@@ -77,13 +65,6 @@ def main() -> int:
                  time_step=case.run.time_step)  # fmt: skip
     bare.load_state_arrays(model.state_arrays())
     bare.set_dt(model.dt)
-
-    @ti.kernel
-    def k_phase(m: ti.template(), phase: ti.template(), n: ti.i32, step0: ti.i32, dt: ti.f64):
-        ti.loop_config(serialize=True)
-        for k in range(n):
-            first, dt_v, rec, t_load, t_rot = step_times(k, n, step0, dt, 0, 0, 0)
-            step_phase(m, phase, 0, 1, dt, first, dt_v, rec, t_load, t_rot, 0.0, m.damped)
 
     @ti.kernel
     def k_elements(m: ti.template(), n: ti.i32, dt: ti.f64, damped: ti.template()):
@@ -105,7 +86,7 @@ def main() -> int:
     model.load_state_arrays(state)
     for phase, name in ((CLEAR, "CLEAR"), (FORCES, "FORCES"), (GATHER, "GATHER"),
                         (NODES, "NODES"), (SENSORS, "SENSORS")):  # fmt: skip
-        run = lambda k, ph=phase: k_phase(model, ph, k, 1000, dt)  # noqa: E731
+        run = lambda k, ph=phase: advance_phases(model, k, ph, ph + 1)  # noqa: E731
         rows.append((f"  phase {name}", best_time(run, n, r)))
         model.load_state_arrays(state)
     rows.append(("    elements, damped", best_time(lambda k: k_elements(model, k, dt, 1), n, r)))

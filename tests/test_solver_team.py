@@ -105,6 +105,32 @@ def test_element_energies_are_the_same_in_every_mode():
     np.testing.assert_array_equal(e_int["serial"], e_int["parallel"])
 
 
+@pytest.mark.parametrize("members", [1, 2])
+def test_phases_run_one_by_one_step_as_the_whole_step(members):
+    """The profiling entry (``advance_phases``) runs the step body's phases: all of them,
+    one launch per phase, move the model exactly as ``advance`` does, here while the
+    disk presses into the block with friction."""
+    params = ContactParameters(friction_static=0.3, friction_dynamic=0.2)
+    runs = []
+    for by_phase in (False, True):
+        model, contact, _ = thrown_disk(params, (2.0, -1.0), omega=-300.0)
+        model.advance(100)
+        for _ in range(20):
+            if by_phase:
+                contact.before_steps(model, 1)
+                for p in range(stepping.N_PHASES):
+                    stepping.advance_phases(model, 1, p, p + 1, members)
+                contact.after_steps(model, 1)
+                model.step_count += 1
+            else:
+                model.advance(1, mode="serial" if members == 1 else "team")
+        assert np.abs(contact.contact_state()["fn"]).max() > 0  # in contact
+        runs.append((model.positions(), model.velocities()))
+    (x_ref, v_ref), (x, v) = runs
+    np.testing.assert_array_equal(x, x_ref)
+    np.testing.assert_array_equal(v, v_ref)
+
+
 @ti.kernel
 def _shares(lo: ti.types.ndarray(), hi: ti.types.ndarray(), count: ti.i32, n_members: ti.i32):
     for member in range(n_members):

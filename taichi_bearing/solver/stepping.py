@@ -44,6 +44,7 @@ __all__ = [
     "STEPS_PER_LAUNCH_ENV",
     "SERIAL_MAX_ELEMENTS",
     "advance",
+    "advance_phases",
     "choose_mode",
     "parallel_steps",
     "team_size",
@@ -66,13 +67,14 @@ STEPS_PER_LAUNCH_ENV = "TAICHI_BEARING_STEPS_PER_LAUNCH"
 @ti.kernel
 def _k_chunk(m: ti.template(), n: ti.i32, step0: ti.i32, dt: ti.f64, first0: ti.i32,
              c_mass: ti.f64, rec_last: ti.i32, relax: ti.i32, damped: ti.template(),
-             n_members: ti.template()):  # fmt: skip
-    """``n`` steps in one launch, on the calling thread (``n_members`` 1) or by a team."""
+             n_members: ti.template(), p0: ti.template(), p1: ti.template()):  # fmt: skip
+    """``n`` steps in one launch, on the calling thread (``n_members`` 1) or by a team;
+    phases ``p0 <= p < p1`` of each (all of them, but for a profile of one phase)."""
     if ti.static(n_members == 1):
         ti.loop_config(serialize=True)
         for k in range(n):
             first, dt_v, rec, t_load, t_rot = step_times(k, n, step0, dt, first0, rec_last, relax)
-            for p in ti.static(range(N_PHASES)):
+            for p in ti.static(range(p0, p1)):
                 step_phase(m, p, 0, 1, dt, first, dt_v, rec, t_load, t_rot, c_mass, damped)
     else:
         ti.loop_config(serialize=True)
@@ -82,18 +84,19 @@ def _k_chunk(m: ti.template(), n: ti.i32, step0: ti.i32, dt: ti.f64, first0: ti.
             member = ti.global_thread_idx()
             if join(m.team, member):
                 _team_member(m, member, n, step0, dt, first0, c_mass, rec_last, relax,
-                             damped, n_members)  # fmt: skip
+                             damped, n_members, p0, p1)  # fmt: skip
 
 
 @ti.func
 def _team_member(m: ti.template(), member, n, step0, dt, first0, c_mass, rec_last, relax,
-                 damped: ti.template(), n_members: ti.template()):  # fmt: skip
+                 damped: ti.template(), n_members: ti.template(), p0: ti.template(),
+                 p1: ti.template()):  # fmt: skip
     """Member ``member``'s ``n`` steps: each phase (its share, or member 0 alone), then a
     barrier. The sensors (member 0) need none before the next step's clearing."""
     passed = 0
     for k in range(n):
         first, dt_v, rec, t_load, t_rot = step_times(k, n, step0, dt, first0, rec_last, relax)
-        for p in ti.static(range(N_PHASES)):
+        for p in ti.static(range(p0, p1)):
             if passed >= 0:
                 if ti.static(SHARED[p]):
                     step_phase(m, p, member, n_members, dt, first, dt_v, rec, t_load, t_rot,
@@ -214,7 +217,7 @@ def advance(model, n: int, record_last: bool = False, mode: str | None = None,
                 chunk = max(1, min(chunk, c.before_steps(model, chunk)))
             last = int(record_last and done + chunk == n)
             _k_chunk(model, chunk, model.step_count, dt, int(model.first), c_mass, last,
-                     int(relax), damped, n_members)  # fmt: skip
+                     int(relax), damped, n_members, 0, N_PHASES)  # fmt: skip
             if n_members > 1 and model.team.failed[None]:
                 raise RuntimeError(
                     f"team stepping: a barrier waited in vain for one of {n_members} CPU "
@@ -243,6 +246,16 @@ def advance(model, n: int, record_last: bool = False, mode: str | None = None,
             _k_phases(model, 0, N_PHASES, k, *args)
         _after(model, contributors, k, relax)
         done += k
+
+
+def advance_phases(model, n: int, p0: int, p1: int, n_members: int = 1) -> None:
+    """Run phases ``p0 <= p < p1`` only of ``n`` transient steps from the model's state, on
+    the calling thread or by a team of ``n_members`` CPU threads: a profile of some
+    phases (``benchmarks/profile_step.py``, ``profile_team.py``). The model's clock and
+    contributors' counts are left as they were; what the phases write is not undone."""
+    model.freeze_contributors()
+    _k_chunk(model, n, model.step_count, model.dt, 0, 0.0, 0, 0, int(model.damped),
+             n_members, p0, p1)  # fmt: skip
 
 
 def _after(model, contributors, n: int, relax: bool) -> None:
