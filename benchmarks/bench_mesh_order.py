@@ -43,20 +43,12 @@ def morton_within_parts(mesh):
 
 def worker(case_path: str, order: str, threads: int, steps: int) -> dict:
     """One order's model: preload, then the best of three timed ``steps``-step calls."""
-    from taichi_bearing.case import load_case
-    from taichi_bearing.simulate import build_model, preload, stage_mesh
-    from taichi_bearing.solver.engine import steps_per_sample
+    from benchmarks.preloaded import preloaded_model
 
-    case = load_case(case_path, [])
-    mesh, _ = stage_mesh(case)
-    if order == "morton":
-        mesh = morton_within_parts(mesh)
+    renumber = morton_within_parts if order == "morton" else None
+    _, mesh, bm, pre = preloaded_model(case_path, (), "cpu", threads, renumber)
     span = float(np.mean(mesh.elements.max(axis=1) - mesh.elements.min(axis=1)))
-    bm = build_model(case, mesh, "cpu", threads)
     model = bm.model
-    pre = preload(bm)
-    model.set_initial_velocities()
-    model.set_dt(steps_per_sample(model.dt_stable, case.run.sample_rate)[1])
     model.advance(50)
     best = float("inf")
     for _ in range(3):

@@ -3,28 +3,36 @@
 from __future__ import annotations
 
 import time
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 
 
 def preloaded_model(
-    case_path: str, overrides: Sequence[str] = (), arch: str = "cpu", threads: int = 1
+    case_path: str,
+    overrides: Sequence[str] = (),
+    arch: str = "cpu",
+    threads: int = 1,
+    mesh_transform: Callable | None = None,
 ):
-    """Load the case, mesh it, build the model on ``arch`` with ``threads``, preload it,
-    and set the transient's initial velocities and time step (the run's own, from the
-    sample rate). Returns ``(case, mesh, built, preload_s)``: ``built`` the
+    """Load the case, mesh it (then ``mesh_transform(mesh)`` if given, e.g. a renumbering),
+    build the model on ``arch`` with ``threads``, preload it, and set the transient's
+    initial velocities and time step (the run's own, from the sample rate). Returns
+    ``(case, mesh, built, preloaded)``: ``built`` the
     :class:`taichi_bearing.simulate.BearingModel` (``.model``, ``.setup``, ``.contact``),
-    ``preload_s`` the preload's wall time."""
+    ``preloaded`` the preload's result (:func:`taichi_bearing.simulate.preload`) with its
+    wall time ``wall_s``."""
     from taichi_bearing.case import load_case
     from taichi_bearing.simulate import build_model, preload, stage_mesh
     from taichi_bearing.solver.engine import steps_per_sample
 
     case = load_case(case_path, list(overrides))
     mesh, _ = stage_mesh(case)
+    if mesh_transform is not None:
+        mesh = mesh_transform(mesh)
     built = build_model(case, mesh, arch, threads)
     t0 = time.perf_counter()
-    preload(built)
-    preload_s = time.perf_counter() - t0
+    preloaded = preload(built)
+    preloaded["wall_s"] = time.perf_counter() - t0
     model = built.model
     model.set_initial_velocities()
     model.set_dt(steps_per_sample(model.dt_stable, case.run.sample_rate)[1])
-    return case, mesh, built, preload_s
+    return case, mesh, built, preloaded

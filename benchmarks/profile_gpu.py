@@ -35,10 +35,9 @@ def main() -> int:
 
     from benchmarks.preloaded import preloaded_model
 
-    case, mesh, bm, preload_s = preloaded_model(args.case, args.overrides, args.arch,
-                                                args.threads)  # fmt: skip
+    case, mesh, bm, pre = preloaded_model(args.case, args.overrides, args.arch, args.threads)
     model = bm.model
-    print(f"preload: {preload_s:.1f} s", flush=True)
+    print(f"preload: {pre['steps']} steps in {pre['wall_s']:.1f} s", flush=True)
     model.advance(50)
     ti.sync()
 
