@@ -29,17 +29,28 @@ from pathlib import Path
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
 
+def _cpuinfo() -> str | None:
+    try:
+        return Path("/proc/cpuinfo").read_text()
+    except OSError:
+        return None
+
+
+def simd_flags() -> list[str]:
+    """Which of avx2, fma and avx512f the CPU reports (Linux; none known elsewhere)."""
+    flags = re.search(r"^flags\s*:\s*(.*)$", _cpuinfo() or "", re.MULTILINE)
+    return [f for f in ("avx2", "fma", "avx512f") if flags and f in flags.group(1).split()]
+
+
 def cpu_name() -> str:
     """The CPU's model name, family and model (Linux), else the platform's word."""
-    try:
-        text = Path("/proc/cpuinfo").read_text()
-    except OSError:
+    text = _cpuinfo()
+    if text is None:
         return platform.processor() or platform.machine()
     field = {k: re.search(rf"^{k}\s*:\s*(.*)$", text, re.MULTILINE) for k in
              ("model name", "cpu family", "model")}  # fmt: skip
     value = {k: m.group(1).strip() if m else "?" for k, m in field.items()}
-    flags = re.search(r"^flags\s*:\s*(.*)$", text, re.MULTILINE)
-    simd = [f for f in ("avx2", "fma", "avx512f") if flags and f in flags.group(1).split()]
+    simd = simd_flags()
     return (f"{value['model name']} (family {value['cpu family']}, model {value['model']}; "
             f"has {', '.join(simd) or 'none of avx2, fma, avx512f'})")  # fmt: skip
 
@@ -100,7 +111,7 @@ def main() -> int:
           f"zmm (512) {regs['zmm']}")  # fmt: skip
     print(f"  fused multiply-adds: {fma}")
     print(f"  floating-point arithmetic: {dict(sorted(fp.items(), key=lambda kv: -kv[1]))}")
-    if "avx2" in cpu_name() and regs["ymm"] == regs["zmm"] == 0 and fma == 0:
+    if "avx2" in simd_flags() and regs["ymm"] == regs["zmm"] == 0 and fma == 0:
         # Taichi 1.7 builds its optimiser's target from LLVM's name for the host CPU and
         # no feature list: a CPU its LLVM cannot name is taken for baseline x86-64.
         print("  the optimiser took this CPU for baseline x86-64 (SSE2): Taichi's LLVM does not"

@@ -5,7 +5,7 @@ members and makes them meet at a spin barrier after each shared phase. A member 
 finishes its share first spins until the others arrive, so the spins it counts measure the
 imbalance of the shares (plus anything that delayed the last member: an interrupt, a
 descheduled thread). This script swaps the barrier for one that counts each member's
-spins at each phase (the same loop, plus a counter), runs the case as a run steps it
+spins at each phase (the team's own wait, plus a counter), runs the case as a run steps it
 (``--samples`` output samples), and converts spins to time with the cost of one spin
 measured in the same process (one thread spinning alone on the counter, as a waiting
 member does). The dynamics are untouched: only the waiting is counted.
@@ -33,24 +33,15 @@ N_BARRIERS = len(PHASES)
 
 
 def counting_barrier(spins_field):
-    """A barrier with :func:`taichi_bearing.solver.team.barrier`'s signature and loop that
-    adds each member's spins to ``spins_field[member, phase]``; the phase is the count of
-    barriers passed in this launch modulo 4, since every step passes four."""
-    from taichi_bearing.solver.team import TEAM_SPIN_LIMIT
+    """A barrier with :func:`taichi_bearing.solver.team.barrier`'s signature (its own wait,
+    :func:`~taichi_bearing.solver.team.barrier_spins`) that adds each member's spins to
+    ``spins_field[member, phase]``; the phase is the count of barriers passed in this launch
+    modulo 4, since every step passes four."""
+    from taichi_bearing.solver.team import barrier_spins
 
     @ti.func
     def barrier(team: ti.template(), passed, n_members):
-        out = passed + 1
-        target = ti.i64(n_members) * out
-        seen = ti.atomic_add(team.bar[None], 1) + 1
-        spins = 0
-        while seen < target:
-            seen = ti.atomic_add(team.bar[None], 0)
-            spins += 1
-            if spins > TEAM_SPIN_LIMIT:
-                team.failed[None] = 1
-                out = -1
-                break
+        out, spins = barrier_spins(team, passed, n_members)
         spins_field[ti.global_thread_idx(), passed % N_BARRIERS] += spins
         return out
 

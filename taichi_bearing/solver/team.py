@@ -15,7 +15,15 @@ every worker takes one; a member busy in its first item cannot take another task
 # No `from __future__ import annotations`: Taichi reads kernel annotations at definition.
 import taichi as ti
 
-__all__ = ["TEAM_MAX_THREADS", "TEAM_SPIN_LIMIT", "TeamState", "barrier", "join", "share"]
+__all__ = [
+    "TEAM_MAX_THREADS",
+    "TEAM_SPIN_LIMIT",
+    "TeamState",
+    "barrier",
+    "barrier_spins",
+    "join",
+    "share",
+]
 
 # A barrier spin this long means a member never came (then the launch stops and the
 # stepping raises): far beyond any one phase of a step.
@@ -61,6 +69,14 @@ def barrier(team: ti.template(), passed, n_members):
     """Spin until all ``n_members`` reached their ``passed + 1``-th barrier; returns
     ``passed + 1``, or -1 (and sets ``team.failed``) if one never comes. The atomic add is
     a full fence: what a member wrote before, the others read after."""
+    out, _ = barrier_spins(team, passed, n_members)
+    return out
+
+
+@ti.func
+def barrier_spins(team: ti.template(), passed, n_members):
+    """:func:`barrier`, returning also how many times this member read the counter while
+    it waited (``benchmarks/profile_barriers.py`` counts them)."""
     out = passed + 1
     target = ti.i64(n_members) * out
     seen = ti.atomic_add(team.bar[None], 1) + 1
@@ -72,4 +88,4 @@ def barrier(team: ti.template(), passed, n_members):
             team.failed[None] = 1
             out = -1
             break
-    return out
+    return out, spins
