@@ -26,12 +26,16 @@ Method (Randall and Antoni 2011; Smith and Randall 2015, the CWRU benchmark):
    are masked out, since they are present in every record.
 5. Statistics. The p-value of a harmonic is at most ``W exp(-z)``, W being the number of
    bins its slip window spans (Bonferroni bound on the largest of W exponential bins). A
-   family is detected when two of its harmonics are jointly significant: the two smallest
-   p-values have a product c with ``c (1 - ln c)`` (the chance of so small a product from two
-   independent uniform p-values, Fisher's method) at most ``alpha_pair``, and the weaker of
-   the two is itself below 0.01. A single line near a fault frequency is no evidence of a
-   fault (a healthy bearing's varying compliance, or any other periodic source, can give
-   one); a series of harmonics is the mark of repetitive impacts. ``alpha_pair`` is
+   family is detected when two of its harmonics are jointly significant: the most
+   significant pair's p-values have a product c with ``c (1 - ln c)`` (the chance of so small
+   a product from two independent uniform p-values, Fisher's method) at most ``alpha_pair``,
+   and the weaker of the two is itself below 0.01. A single line near a fault frequency is no
+   evidence of a fault (a healthy bearing's varying compliance, or any other periodic source,
+   can give one); a series of harmonics is the mark of repetitive impacts. The pair must mark
+   the comb's own period: harmonics 2 and 4 (any two with a common factor g) are also the 1st
+   and 2nd of a series at g times the fault frequency, no fault of this bearing, so such a
+   pair counts only where a harmonic below it that g does not divide was masked (a shaft
+   harmonic) and could not tell the two series apart. ``alpha_pair`` is
    ``alpha`` divided by the number of harmonic pairs, families and candidate bands (union
    bound), so that a fault-free record is called faulty with probability at most ``alpha``
    (1e-4 by default): the healthy threshold comes from that false-alarm probability, not
@@ -130,7 +134,9 @@ class FamilyScore:
     modulation : numpy.ndarray
         Modulation depth of the squared envelope at each harmonic (amplitude over mean).
     pair_p : float
-        Joint p-value of the two strongest harmonics (Fisher's product).
+        Joint p-value (Fisher's product) of the most significant pair of harmonics that
+        marks the comb's own period: not two with a common factor, such as the 2nd and 4th,
+        unless a harmonic that would tell the comb from one at that multiple was masked.
     detected : bool
         ``pair_p <= alpha_pair``, both lines supporting, and a supporting line modulating
         the squared envelope by at least ``min_modulation``.
@@ -408,10 +414,34 @@ def _pair_tail(c: float) -> float:
     return c * (1.0 - math.log(c)) if c > 0.0 else 0.0
 
 
+def _best_pair(p: np.ndarray, observed: np.ndarray) -> tuple[float, float]:
+    """The two p-values of the most significant pair of harmonics that can mark this
+    comb's period, the smaller first ((1.0, 1.0) if there is none).
+
+    Harmonics i and j with a common factor g > 1 (2 and 4) are also harmonics i/g and j/g
+    of a series at g times the fundamental: with the comb's other lines absent they are
+    evidence of that faster series, which is no fault frequency of this bearing. Such a
+    pair counts only where a harmonic that would tell the two apart (one not a multiple of
+    g, below the pair's upper line) could not be observed (masked as a shaft harmonic).
+    """
+    best = (1.0, 1.0)
+    for i in range(p.size):
+        for j in range(i + 1, p.size):
+            g = math.gcd(i + 1, j + 1)
+            telling = [h for h in range(j) if (h + 1) % g]
+            if g > 1 and all(observed[h] for h in telling):
+                continue
+            pair = (min(p[i], p[j]), max(p[i], p[j]))
+            if pair[0] * pair[1] < best[0] * best[1]:
+                best = pair
+    return best
+
+
 def _score_family(
     family: str,
     f: np.ndarray,
     z_masked: np.ndarray,
+    masked: np.ndarray,
     m: np.ndarray,
     f0: float,
     n_harm: int,
@@ -435,13 +465,14 @@ def _score_family(
     # exceeds z with probability at most W exp(-z).
     windows = 2.0 * slip * k * f0 / df + 2.0
     p = np.minimum(1.0, windows * np.exp(-zk))
-    p1, p2 = np.sort(p)[:2]
+    pos = k * fc / df
+    lo = np.clip(np.floor(pos).astype(int), 0, m.size - 2)
+    observed = ~(masked[lo] & masked[lo + 1])
+    p1, p2 = _best_pair(p, observed)
     pair_p = _pair_tail(p1 * p2)
     support = p <= _SUPPORT_P
     # Depth from the power of the two bins around each line: within 1 dB of the true
     # amplitude wherever the line falls (the larger bin alone can lose 4 dB).
-    pos = k * fc / df
-    lo = np.clip(np.floor(pos).astype(int), 0, m.size - 2)
     depth = np.hypot(m[lo], m[lo + 1])
     strongest = float(depth[support].max()) if support.any() else 0.0
     detected = bool(pair_p <= alpha_pair and p2 <= _SUPPORT_P and strongest >= min_modulation)
@@ -672,7 +703,7 @@ def diagnose(
     ...     return impacts + 0.3 * rng.standard_normal(n)
     >>> d = diagnose(record(np.full(n, 29.95)), fs, geometry, 29.95)
     >>> d.fault, round(d.confidence, 2), d.domain
-    ('outer', 0.84, 'time')
+    ('outer', 1.0, 'time')
 
     At a varying speed, give the shaft rate per sample (here a ramp from 25 to 35 rev/s;
     from a tachometer, :func:`~diagnostics.speed.speed_from_tacho`): the record is
@@ -790,7 +821,8 @@ def _diagnose_steady(
     bands: list[BandScore] = []
     for name, band, kurt, y in candidates:
         f, z, m = normalised_envelope_spectrum(y, fs, _demod_band(band, fs), f_max, half_window)
-        z_masked = np.where(_shaft_mask(f, freqs.shaft), 0.0, z)
+        masked = _shaft_mask(f, freqs.shaft)
+        z_masked = np.where(masked, 0.0, z)
         width = band[1] - band[0]
         scores: dict[str, FamilyScore | None] = {}
         for comb, (family, f0, sb_hz) in combs.items():
@@ -799,7 +831,18 @@ def _diagnose_steady(
                 scores[comb] = None
                 continue
             score = _score_family(
-                family, f, z_masked, m, f0, n_harm, slip, alpha_pair, min_modulation, band, sb_hz
+                family,
+                f,
+                z_masked,
+                masked,
+                m,
+                f0,
+                n_harm,
+                slip,
+                alpha_pair,
+                min_modulation,
+                band,
+                sb_hz,
             )
             scores[comb] = replace(score, comb=comb)
         bands.append(BandScore(name, band, kurt, f, z, scores))

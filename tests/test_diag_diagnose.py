@@ -137,6 +137,25 @@ def test_smooth_ball_pass_modulation_is_significant_but_not_a_fault():
     assert diagnose(x, fs, GEOMETRY, SHAFT_HZ, min_modulation=0.02).fault == "outer"
 
 
+@pytest.mark.parametrize("fs", [12000.0, 48000.0])
+def test_series_at_twice_a_fault_frequency_is_no_fault(fs):
+    """Impacts at 2.02 BPFO put lines on the outer-race comb's 2nd and 4th harmonics and
+    none on its 1st and 3rd: the series' period is half the ball-pass period, no fault
+    frequency of this bearing (the strong pair alone would pass the significance test)."""
+    x = fault_signal(fs, 2.02 * FREQS.bpfo, 3000.0, seed=3)
+    d = diagnose(x, fs, GEOMETRY, SHAFT_HZ)
+    outer = d.families["outer"]
+    support = outer.z > outer.threshold
+    assert support[1] and support[3] and not support[0] and not support[2]
+    assert not outer.detected  # no pair with an odd harmonic is significant
+    assert d.fault == "none"
+    # The same impacts at 1.01 BPFO: every harmonic supports, and the fault is named.
+    assert (
+        diagnose(fault_signal(fs, 1.01 * FREQS.bpfo, 3000.0, seed=3), fs, GEOMETRY, SHAFT_HZ).fault
+        == "outer"
+    )
+
+
 def test_normalised_envelope_spectrum_of_noise_is_unit_exponential():
     # The detection thresholds assume background-normalised SES bins ~ Exp(1).
     fs = 12000.0
@@ -269,3 +288,15 @@ def test_discrete_random_separation_band_is_an_option():
     assert d.fault == "outer"
     assert "drs-kurtogram" in [b.name for b in d.bands]
     assert "drs-kurtogram" not in [b.name for b in diagnose(x, 12000.0, GEOMETRY, SHAFT_HZ).bands]
+
+
+def test_even_pair_counts_where_an_odd_harmonic_is_masked():
+    """Harmonics 2 and 4 mark the comb's own period only where the 1st or 3rd could not be
+    seen (masked as a shaft harmonic)."""
+    from diagnostics.diagnose import _best_pair
+
+    p = np.array([0.5, 1e-9, 0.5, 1e-8, 0.5])
+    seen = np.ones(5, dtype=bool)
+    assert _best_pair(p, seen) == (1e-9, 0.5)
+    seen[2] = False
+    assert _best_pair(p, seen) == (1e-9, 1e-8)
