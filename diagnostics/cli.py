@@ -436,6 +436,12 @@ def add_benchmark_arguments(parser: argparse.ArgumentParser) -> None:
         "--records", action="store_true", help="also print one line per record as it is done"
     )
     parser.add_argument("--csv", type=Path, help="write every record's verdict to this CSV file")
+    parser.add_argument(
+        "--other-bearing",
+        action="store_true",
+        help="false-alarm check: read each CWRU record's other accelerometer with the other "
+        "end's (healthy) bearing; every right verdict is none",
+    )
 
 
 def run_benchmark(args: argparse.Namespace) -> int:
@@ -456,7 +462,12 @@ def run_benchmark(args: argparse.Namespace) -> int:
                 f"{r.path.name}: {r.expected} -> {r.verdict} ({r.confidence:.2f}) {mark} {r.detail}"
             )
 
-    results = benchmark.run_benchmark(paths, progress=show)
+    results = benchmark.run_benchmark(paths, progress=show, other_bearing=args.other_bearing)
+    if not results:
+        raise UsageError(
+            f"{', '.join(map(str, args.folders))}: no CWRU record for --other-bearing (MFPT "
+            "records have one bearing)"
+        )
     if args.records:
         print()
     print(benchmark.summary_table(results))

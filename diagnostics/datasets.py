@@ -231,7 +231,9 @@ def _last(pattern: re.Pattern, text: str):
     return matches[-1] if matches else None
 
 
-def read_labelled_record(path, label: RecordLabel | None = None) -> LabelledRecord:
+def read_labelled_record(
+    path, label: RecordLabel | None = None, end: str | None = None
+) -> LabelledRecord:
     """Read a CWRU or MFPT record with the channel, rate, speed and bearing its label implies.
 
     Parameters
@@ -240,6 +242,9 @@ def read_labelled_record(path, label: RecordLabel | None = None) -> LabelledReco
         A ``.mat`` record of either set.
     label : RecordLabel, optional
         Default: :func:`label_from_name`.
+    end : {"drive", "fan"}, optional
+        CWRU only: read this end's accelerometer with this end's bearing instead of the
+        faulty one's (the other end is healthy in every record of the set).
 
     Returns
     -------
@@ -255,6 +260,8 @@ def read_labelled_record(path, label: RecordLabel | None = None) -> LabelledReco
     label = label if label is not None else label_from_name(path)
     if label is None:
         raise ValueError(f"{path}: not a CWRU or MFPT record name")
+    if end is not None and (label.source != "CWRU" or end not in ("drive", "fan")):
+        raise ValueError(f"{path}: end must be 'drive' or 'fan' for a CWRU record, got {end!r}")
     if label.source == "MFPT":
         sig = read_signal(path)
         if "rpm" not in sig.meta:
@@ -265,7 +272,8 @@ def read_labelled_record(path, label: RecordLabel | None = None) -> LabelledReco
     if label.fs is None:
         raise ValueError(f"{path}: the name gives no sampling rate (12k or 48k)")
     names = read_signal(path, channel=0, fs=label.fs).meta["channels"]
-    suffix = "_FE_time" if label.end == "fan" else "_DE_time"
+    end = end or label.end
+    suffix = "_FE_time" if end == "fan" else "_DE_time"
     candidates = [c for c in names if c.endswith(suffix)]
     if not candidates:
         raise ValueError(f"{path}: no *{suffix} channel; channels: {', '.join(names)}")
@@ -277,5 +285,5 @@ def read_labelled_record(path, label: RecordLabel | None = None) -> LabelledReco
     rpm = sig.meta.get("rpm")
     if rpm is None or not np.isfinite(rpm) or rpm <= 0:
         rpm = CWRU_NOMINAL_RPM.get(int(label.load or 0), CWRU_NOMINAL_RPM[0])
-    geometry = CWRU_FAN_END if label.end == "fan" else CWRU_DRIVE_END
+    geometry = CWRU_FAN_END if end == "fan" else CWRU_DRIVE_END
     return LabelledRecord(path, sig.x, sig.fs, rpm / 60.0, geometry, channel, label)
