@@ -34,5 +34,5 @@ def preloaded_model(
     preloaded["wall_s"] = time.perf_counter() - t0
     model = built.model
     model.set_initial_velocities()
-    model.set_dt(steps_per_sample(model.dt_stable, case.run.sample_rate)[1])
+    model.set_dt(steps_per_sample(model.dt_stable, case.run.sample_rate, model.cycle_steps)[1])
     return case, mesh, built, preloaded

@@ -105,7 +105,7 @@ def main() -> int:
     model = bm.model
     if stepping.choose_mode(model) != "team":
         p.error("this case does not step as a team here (too small, or the machine is busy)")
-    s_steps, _ = steps_per_sample(model.dt_stable, case.run.sample_rate)
+    s_steps, _ = steps_per_sample(model.dt_stable, case.run.sample_rate, model.cycle_steps)
     model.advance(s_steps, record_last=True)
     ns = spin_cost_ns(flag)
     members = args.threads

@@ -119,6 +119,7 @@ def build_model(case: Case, mesh: Mesh, arch: str = "cpu", threads: int | None =
         damping=setup.damping,
         max_added_mass=case.run.max_added_mass,
         time_step=case.run.time_step,
+        multirate_levels=case.run.multirate_levels,
     )
     contact = PenaltyContact(model, setup.contact_pairs, setup.contact_params)
     model.add_contributor(contact)
@@ -380,6 +381,7 @@ def run_case(
                 "element_step_s": float(model.element_dt.min()),
             },
             "mass_scaling": _mass_scaling(model, mesh),
+            **({"multirate": model.step_classes.summary()} if model.step_classes else {}),
             "n_steps": int(model.step_count),
             # preload and transient steps by stepping mode: "serial" where other
             # processes kept the cores busy (see solver.stepping.choose_mode)
@@ -403,6 +405,13 @@ def run_case(
         f"transient: {result.steps} steps in {times['transient']:.1f} s "
         f"({summary['element_steps_per_s']:.3g} element-steps/s)"
     )
+    if "multirate" in summary:
+        info = summary["multirate"]
+        shares = ", ".join(f"{100 * x:.0f} %" for x in info["element_share"])
+        say(
+            f"multi-rate stepping: elements per class (1, 2, ... {2 ** info['levels']} steps) "
+            f"{shares}: {info['element_work']:.3f} of the single-rate element work"
+        )
 
     t0 = time.perf_counter()
     hist = read_histories(out)

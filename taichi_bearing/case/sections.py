@@ -347,6 +347,15 @@ class Run:
         doc="the step from the assembled mesh's highest frequency (with a bound on what "
         "contact adds), or the smallest element's own critical step (always smaller)",
     )
+    multirate_levels: int = key(
+        ge=0,
+        le=4,
+        default=0,
+        doc="multi-rate stepping: nodes whose elements allow 2, 4, ... 2**levels times the "
+        "step change velocity only that often (nodes under contact, loads, constraints or "
+        "sensors every step); pays on locally refined meshes (benchmarks/bench_multirate.py); "
+        "0 is off",
+    )
     max_steps: int = key(
         ge=1,
         default=100_000_000,

@@ -117,12 +117,13 @@ class RunResult:
         return self.rows[:, self.columns.index(name)]
 
 
-def steps_per_sample(dt_stable: float, sample_rate: float) -> tuple[int, float]:
-    """Whole steps per output interval and the step that fits it exactly."""
+def steps_per_sample(dt_stable: float, sample_rate: float, multiple: int = 1) -> tuple[int, float]:
+    """Whole steps per output interval, a multiple of ``multiple`` (multi-rate stepping's
+    cycle, :attr:`Model.cycle_steps`), and the step that fits it exactly."""
     if not sample_rate > 0:
         raise InputError(f"run.sample_rate: must be positive, got {sample_rate!r}")
     interval = 1.0 / sample_rate
-    s = max(1, math.ceil(interval / dt_stable * (1 - 1e-12)))
+    s = max(1, math.ceil(interval / dt_stable / multiple * (1 - 1e-12))) * multiple
     return s, interval / s
 
 
@@ -209,7 +210,7 @@ def run_transient(
         raise InputError(f"run.duration: must be positive, got {config.duration!r}")
     out = Path(out_dir) if out_dir is not None else None
     ckpt_dir = out / CHECKPOINTS_DIR if out is not None else None
-    s_steps, dt = steps_per_sample(model.dt_stable, config.sample_rate)
+    s_steps, dt = steps_per_sample(model.dt_stable, config.sample_rate, model.cycle_steps)
     n_samples = max(1, round(config.duration * config.sample_rate))
     frame_every = _every(config.frame_interval, config.sample_rate) if out else None
     ckpt_every = _every(config.checkpoint_interval, config.sample_rate) if out else None

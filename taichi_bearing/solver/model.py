@@ -35,7 +35,17 @@ from taichi_bearing.solver.loads import (
     RigidVelocity,
 )
 from taichi_bearing.solver.materials import Material, materials_per_element
-from taichi_bearing.solver.step import EXTRA, FIXED, HELD, LOADED, PLATE, ROTATED, SENSOR
+from taichi_bearing.solver.multirate import MAX_LEVELS, StepClasses, step_classes
+from taichi_bearing.solver.step import (
+    ACTED_ON,
+    EXTRA,
+    FIXED,
+    HELD,
+    LOADED,
+    PLATE,
+    ROTATED,
+    SENSOR,
+)
 from taichi_bearing.solver.team import TeamState
 from taichi_bearing.solver.time_step import CriticalStep
 
@@ -94,6 +104,10 @@ class Model:
         the densest this may make the smallest elements, as added mass over each part's
         mass; 0 (default) = none. ``added_mass`` (kg per part) and ``n_mass_scaled`` say
         what was done (``part_mass``: each part's mass before it).
+    multirate_levels : int
+        Multi-rate stepping (:mod:`~taichi_bearing.solver.multirate`): nodes whose elements
+        allow it change their velocity only every 2, 4, ... ``2**multirate_levels`` steps;
+        0 (default) = every node every step. Dynamic relaxation always steps every node.
 
     Notes
     -----
@@ -120,6 +134,7 @@ class Model:
         dt_factor: float = 0.9,
         max_added_mass: float = 0.0,
         time_step: str = "element",
+        multirate_levels: int = 0,
     ) -> None:
         if current_arch() is None:
             # Otherwise Taichi would start itself on a default arch with f32.
@@ -195,6 +210,19 @@ class Model:
         self.bad_element = ti.field(ti.i32, shape=())
         self.sums = ti.field(ti.f64, shape=6)
         self.team = TeamState()
+        # ---- multi-rate stepping (classes found at the first step, from the run's dt)
+        if not 0 <= int(multirate_levels) <= MAX_LEVELS:
+            raise ValueError(
+                f"multirate_levels must lie in [0, {MAX_LEVELS}], got {multirate_levels!r}"
+            )
+        self.multirate_levels = int(multirate_levels)
+        self.step_classes: StepClasses | None = None
+        self._classes_dt: float | None = None
+        if self.multirate_levels:
+            self.mr_node_class = _scalar_field(nn, ti.i32)
+            self.mr_order = _scalar_field(ne, ti.i32)
+            self.mr_count = _scalar_field(self.multirate_levels + 1, ti.i32)
+            self.mr_scale = _scalar_field(ne)  # 2**class of each element
 
         self.X.from_numpy(np.asarray(mesh.nodes, dtype=float))
         self.x.from_numpy(np.asarray(mesh.nodes, dtype=float))
@@ -446,8 +474,31 @@ class Model:
             nodes = c.force_nodes()
             self.bc_np[slice(None) if nodes is None else np.asarray(nodes)] |= EXTRA
         self.bc.from_numpy(self.bc_np)
+        self._classes_dt = None  # the nodes held at class 0 may have changed
 
     # ------------------------------------------------------------------ stepping
+
+    def prepare_step_classes(self) -> None:
+        """Find the multi-rate step classes for the current step (again if it changed):
+        called before steps are taken, with the contributors frozen."""
+        if not self.multirate_levels or self._classes_dt == self.dt:
+            return
+        fast = (self.bc_np & (ACTED_ON | SENSOR)) != 0
+        element_dt = self.critical.element_dt * self.critical.dt_factor
+        elements = np.asarray(self.mesh.elements)
+        c = step_classes(element_dt, elements, self.dt, self.multirate_levels, fast)
+        self.mr_node_class.from_numpy(c.node_class.astype(np.int32))
+        self.mr_order.from_numpy(c.element_order.astype(np.int32))
+        self.mr_count.from_numpy(c.element_count.astype(np.int32))
+        self.mr_scale.from_numpy(2.0 ** c.element_class.astype(float))
+        self.step_classes = c
+        self._classes_dt = self.dt
+
+    @property
+    def cycle_steps(self) -> int:
+        """Steps between the times every node moves together (``2**multirate_levels``):
+        recorded steps fall on multiples of it."""
+        return 2**self.multirate_levels
 
     def advance(
         self,

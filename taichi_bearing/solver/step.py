@@ -58,9 +58,9 @@ ACTED_ON = FIXED | HELD | ROTATED | PLATE | LOADED | EXTRA
 
 
 @ti.func
-def step_times(k, n, step0, dt, first0, rec_last, relax):
+def step_times(k, n, step0, dt, first0, rec_last, relax, levels: ti.template()):
     """Step ``k`` of ``n`` launched together from step count ``step0``:
-    ``(first, dt_v, rec, t_load, t_rot)``.
+    ``(first, dt_v, rec, t_load, t_rot, moving)``.
 
     The first step after a restart (``first0``) is a half step for the velocities; the
     nodes' velocities at ``t_n`` are recorded (``rec``) on the last step when
@@ -68,7 +68,19 @@ def step_times(k, n, step0, dt, first0, rec_last, relax):
     :func:`~taichi_bearing.solver.element_law.record_element_energies`); loads act at
     ``t_n`` and prescribed rotations reach ``t_{n+1}``; dynamic relaxation (``relax``)
     holds the loads at full value and the rotations at angle 0.
+
+    With multi-rate stepping (``levels`` > 0, :mod:`~taichi_bearing.solver.multirate`),
+    ``moving`` is the highest step class whose nodes change velocity at this step: the
+    number of times 2 divides the step count, at most ``levels``; -1 (every node, as in
+    single-rate stepping) in dynamic relaxation or without multi-rate stepping.
     """
+    moving = -1
+    if ti.static(levels > 0):
+        if relax == 0:
+            g = step0 + k
+            moving = 0
+            while moving < levels and ((g >> moving) & 1) == 0:
+                moving += 1
     t = (step0 + k) * dt
     first = 0
     dt_v = dt
@@ -83,23 +95,46 @@ def step_times(k, n, step0, dt, first0, rec_last, relax):
     if relax != 0:
         t_load = 1e300
         t_rot = 0.0
-    return first, dt_v, rec, t_load, t_rot
+    return first, dt_v, rec, t_load, t_rot, moving
 
 
 @ti.func
 def step_phase(m: ti.template(), phase: ti.template(), member, n_members: ti.template(),
-               dt, first, dt_v, rec, t_load, t_rot, c_mass, damped: ti.template()):  # fmt: skip
+               dt, first, dt_v, rec, t_load, t_rot, moving, c_mass,
+               damped: ti.template()):  # fmt: skip
     """Member ``member`` of ``n_members``'s part of one phase of a step of model ``m``
     (see the module notes). ``c_mass``: dynamic relaxation's mass damping, 1/s (0: none);
-    ``damped``: whether the elements have stiffness-proportional damping."""
+    ``damped``: whether the elements have stiffness-proportional damping; ``moving``: the
+    highest step class that moves (:func:`step_times`)."""
     if ti.static(phase == CLEAR):
         for c in ti.static(m.kernel_contributors):
             c.step_begin(member, n_members)
         apply_loads(m, t_load, member, n_members)
     if ti.static(phase == FORCES):
-        e0, e1 = share(m.n_elements, member, n_members)
-        for e in range(e0, e1):
-            element_forces(m, e, dt, damped)
+        if ti.static(m.multirate_levels == 0):
+            e0, e1 = share(m.n_elements, member, n_members)
+            for e in range(e0, e1):
+                element_forces(m, e, dt, damped)
+        else:
+            # Each moving class's elements (a run of the class-sorted list), shared among
+            # the members class by class: the same elements stay with the same member
+            # (its cache) and every member gets its part of each class (the balance).
+            # An element is evaluated once per step of its class, its damping working
+            # for that step.
+            top = m.multirate_levels
+            if moving >= 0:
+                top = moving
+            for c in range(top + 1):
+                lo = 0
+                if c > 0:
+                    lo = m.mr_count[c - 1]
+                j0, j1 = share(m.mr_count[c] - lo, member, n_members)
+                for j in range(lo + j0, lo + j1):
+                    e = m.mr_order[j]
+                    dt_e = dt
+                    if moving >= 0:
+                        dt_e = dt * m.mr_scale[e]
+                    element_forces(m, e, dt_e, damped)
         for c in ti.static(m.kernel_contributors):
             c.step_share(member, n_members, m.x, m.v, m.mass, m.f_extra, dt, dt_v)
     if ti.static(phase == GATHER):
@@ -109,7 +144,10 @@ def step_phase(m: ti.template(), phase: ti.template(), member, n_members: ti.tem
     if ti.static(phase == NODES):
         i0, i1 = share(m.n_nodes, member, n_members)
         for i in range(i0, i1):
-            node_update(m, i, t_rot, dt, dt_v, first, c_mass, rec)
+            if ti.static(m.multirate_levels == 0):
+                node_update(m, i, t_rot, dt, dt_v, first, c_mass, rec)
+            else:
+                node_multirate(m, i, t_rot, dt, dt_v, first, c_mass, rec, moving)
     if ti.static(phase == SENSORS):
         for s in range(m.n_sensor):
             sensor_sum(m, s, dt, dt_v, first)
@@ -248,6 +286,26 @@ def node_update(m: ti.template(), i, t_rot, dt, dt_v, first, c_mass, rec):
     m.v[i] = vn
     if flag & SENSOR:  # only the sensors read it
         m.a[i] = an
+
+
+@ti.func
+def node_multirate(m: ti.template(), i, t_rot, dt, dt_v, first, c_mass, rec, moving):
+    """Node ``i`` under multi-rate stepping: at a step of its class, the update of
+    :func:`node_update` with its class's velocity step (``2**c`` times ``dt_v``); between
+    them it keeps its velocity and moves with it (linear interpolation of its path). Its
+    velocity at ``t_n`` where it does not update is its current one. Only nodes nothing but
+    their elements acts on are in a class above 0."""
+    c = 0
+    if moving >= 0:
+        c = m.mr_node_class[i]
+    if c <= moving or moving < 0:
+        scale = ti.cast(1 << c, ti.f64)
+        node_update(m, i, t_rot, dt, dt_v * scale, first, c_mass, rec)
+    else:
+        vo = m.v[i]
+        if rec != 0:
+            m.v_int[i] = vo
+        m.x[i] = m.x[i] + dt * vo
 
 
 @ti.func

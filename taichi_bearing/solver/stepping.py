@@ -73,9 +73,12 @@ def _k_chunk(m: ti.template(), n: ti.i32, step0: ti.i32, dt: ti.f64, first0: ti.
     if ti.static(n_members == 1):
         ti.loop_config(serialize=True)
         for k in range(n):
-            first, dt_v, rec, t_load, t_rot = step_times(k, n, step0, dt, first0, rec_last, relax)
+            first, dt_v, rec, t_load, t_rot, moving = step_times(
+                k, n, step0, dt, first0, rec_last, relax, m.multirate_levels
+            )
             for p in ti.static(range(p0, p1)):
-                step_phase(m, p, 0, 1, dt, first, dt_v, rec, t_load, t_rot, c_mass, damped)
+                step_phase(m, p, 0, 1, dt, first, dt_v, rec, t_load, t_rot, moving, c_mass,
+                           damped)  # fmt: skip
     else:
         ti.loop_config(serialize=True)
         for _ in range(1):
@@ -95,14 +98,17 @@ def _team_member(m: ti.template(), member, n, step0, dt, first0, c_mass, rec_las
     barrier. The sensors (member 0) need none before the next step's clearing."""
     passed = 0
     for k in range(n):
-        first, dt_v, rec, t_load, t_rot = step_times(k, n, step0, dt, first0, rec_last, relax)
+        first, dt_v, rec, t_load, t_rot, moving = step_times(
+            k, n, step0, dt, first0, rec_last, relax, m.multirate_levels
+        )
         for p in ti.static(range(p0, p1)):
             if passed >= 0:
                 if ti.static(SHARED[p]):
                     step_phase(m, p, member, n_members, dt, first, dt_v, rec, t_load, t_rot,
-                               c_mass, damped)  # fmt: skip
+                               moving, c_mass, damped)  # fmt: skip
                 elif member == 0:
-                    step_phase(m, p, 0, 1, dt, first, dt_v, rec, t_load, t_rot, c_mass, damped)
+                    step_phase(m, p, 0, 1, dt, first, dt_v, rec, t_load, t_rot, moving,
+                               c_mass, damped)  # fmt: skip
                 if ti.static(p < N_PHASES - 1):
                     passed = barrier(m.team, passed, n_members)
 
@@ -118,17 +124,19 @@ def _k_phases(m: ti.template(), p0: ti.template(), p1: ti.template(), n: ti.temp
             if ti.static(SHARED[p]):
                 ti.loop_config(serialize=n_members == 1)
                 for member in range(n_members):
-                    first, dt_v, rec, t_load, t_rot = step_times(k, n, step0, dt, first0,
-                                                                 rec_last, relax)  # fmt: skip
+                    first, dt_v, rec, t_load, t_rot, moving = step_times(
+                        k, n, step0, dt, first0, rec_last, relax, m.multirate_levels
+                    )
                     step_phase(m, p, member, n_members, dt, first, dt_v, rec, t_load,
-                               t_rot, c_mass, damped)  # fmt: skip
+                               t_rot, moving, c_mass, damped)  # fmt: skip
             else:
                 ti.loop_config(serialize=True)
                 for _ in range(1):
-                    first, dt_v, rec, t_load, t_rot = step_times(k, n, step0, dt, first0,
-                                                                 rec_last, relax)  # fmt: skip
-                    step_phase(m, p, 0, 1, dt, first, dt_v, rec, t_load, t_rot, c_mass,
-                               damped)  # fmt: skip
+                    first, dt_v, rec, t_load, t_rot, moving = step_times(
+                        k, n, step0, dt, first0, rec_last, relax, m.multirate_levels
+                    )
+                    step_phase(m, p, 0, 1, dt, first, dt_v, rec, t_load, t_rot, moving,
+                               c_mass, damped)  # fmt: skip
 
 
 def parallel_steps() -> int:
@@ -204,6 +212,7 @@ def advance(model, n: int, record_last: bool = False, mode: str | None = None,
         n = 1
     model.steps_by_mode[mode] = model.steps_by_mode.get(mode, 0) + n
     model.freeze_contributors()
+    model.prepare_step_classes()
     relax = relax_damping is not None
     c_mass = float(relax_damping) if relax else 0.0
     dt, damped = model.dt, int(model.damped)
@@ -254,6 +263,7 @@ def advance_phases(model, n: int, p0: int, p1: int, n_members: int = 1) -> None:
     phases (``benchmarks/profile_step.py``, ``profile_team.py``). The model's clock and
     contributors' counts are left as they were; what the phases write is not undone."""
     model.freeze_contributors()
+    model.prepare_step_classes()
     _k_chunk(model, n, model.step_count, model.dt, 0, 0.0, 0, 0, int(model.damped),
              n_members, p0, p1)  # fmt: skip
 
