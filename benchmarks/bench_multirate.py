@@ -11,6 +11,7 @@ refinement (``docs/results/convergence``), where multi-rate stepping is meant to
 
     python benchmarks/bench_multirate.py --levels 0 3 --threads 2 --repeats 2
     python benchmarks/bench_multirate.py cases/line_spall.yaml --no-refine --levels 0 2
+    python benchmarks/bench_multirate.py --arch cuda --levels 0 3     # on a GPU machine
 """
 
 from __future__ import annotations
@@ -35,12 +36,12 @@ REFINED = [
 ]
 
 
-def worker(case: str, sets: list[str], level: int, threads: int, steps: int) -> dict:
+def worker(case: str, sets: list[str], level: int, arch: str, threads: int, steps: int) -> dict:
     """One level's model: preload, warm up, then the best of three timed calls."""
     from benchmarks.preloaded import preloaded_model
 
     _, mesh, built, pre = preloaded_model(
-        case, [*sets, f"run.multirate_levels={level}"], "cpu", threads
+        case, [*sets, f"run.multirate_levels={level}"], arch, threads
     )
     model = built.model
     model.advance(1, record_last=True)  # the half step out of t = 0
@@ -70,6 +71,7 @@ def main() -> int:
     p.add_argument("--set", dest="sets", action="append", default=[], metavar="KEY=VALUE")
     p.add_argument("--no-refine", action="store_true", help="leave out the refined-mesh keys")
     p.add_argument("--levels", type=int, nargs="+", default=[0, 3])
+    p.add_argument("--arch", default="cpu", choices=["cpu", "cuda", "vulkan"])
     p.add_argument("--threads", type=int, default=2)
     p.add_argument("--steps", type=int, default=4000)
     p.add_argument("--repeats", type=int, default=2)
@@ -77,14 +79,14 @@ def main() -> int:
     args = p.parse_args()
     sets = ([] if args.no_refine else REFINED) + args.sets
     if args.worker is not None:
-        row = worker(args.case, sets, args.worker, args.threads, args.steps)
+        row = worker(args.case, sets, args.worker, args.arch, args.threads, args.steps)
         print("ROW " + json.dumps(row))
         return 0
     rows: dict[int, list[dict]] = {level: [] for level in args.levels}
     for r in range(args.repeats):
         for level in args.levels if r % 2 == 0 else args.levels[::-1]:
             cmd = [sys.executable, __file__, args.case, "--worker", str(level),
-                   "--threads", str(args.threads), "--steps", str(args.steps),
+                   "--arch", args.arch, "--threads", str(args.threads), "--steps", str(args.steps),
                    "--no-refine", *[a for s in sets for a in ("--set", s)]]  # fmt: skip
             out = subprocess.run(cmd, capture_output=True, text=True, cwd=ROOT, check=True)
             row = json.loads(next(s for s in out.stdout.splitlines() if s.startswith("ROW "))[4:])
@@ -94,7 +96,7 @@ def main() -> int:
     first = rows[args.levels[0]][0]
     print(
         f"\n{Path(args.case).name} {' '.join(sets)}: {first['n_elements']} elements, "
-        f"dt {first['dt_ns']:.2f} ns, {args.threads} threads, {args.steps} steps, "
+        f"dt {first['dt_ns']:.2f} ns, {args.arch}, {args.threads} threads, {args.steps} steps, "
         f"modes {first['modes']}"
     )
     print(f"{'levels':>6}  {'elements per class':<32} {'element work':>12} "

@@ -4,7 +4,9 @@
 #      the CPU, side by side (times, element-steps/s, history differences before the first
 #      spall exit);
 #   2. profile_gpu.py: where a GPU step's wall time goes (host launches or device tasks);
-#   3. the whole default case with --arch cuda (the main command; checks, times).
+#   3. the whole default case with --arch cuda (the main command; checks, times);
+#   4. (MULTIRATE_S > 0, default 0: off) bench_multirate.py on cuda: multi-rate stepping at
+#      3 levels against single-rate on the convergence study's 0.125 mm local refinement.
 # Each stage's limit must leave room for compiling: Taichi writes its offline cache when a
 # process ends, so a process killed while compiling leaves nothing for the next (seen: 8
 # steps a launch took 113 s to compile on an H200's host).
@@ -60,4 +62,10 @@ TAICHI_BEARING_CACHE_DIR=/tmp/bg/cache_cuda timeout "${FULL_S:-240}" \
     --set output.frames=false --progress-interval 10 2>&1 | tee -a "$LOG"
 cp /tmp/full/summary.json "$OUT/summary_full.json" 2>/dev/null
 cp /tmp/full/histories.parquet "$OUT/h_full.parquet" 2>/dev/null
+
+if [ "${MULTIRATE_S:-0}" -gt 0 ]; then
+    echo "== 4. bench_multirate on cuda: levels 0 and 3, 4000 steps" | tee -a "$LOG"
+    timeout "$MULTIRATE_S" $PY benchmarks/bench_multirate.py --arch cuda --levels 0 3 \
+        --repeats 1 --steps 4000 2>&1 | grep -v '^\[Taichi\]' | tee -a "$LOG"
+fi
 exit 0
