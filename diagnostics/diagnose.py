@@ -428,8 +428,7 @@ def _best_pair(p: np.ndarray, observed: np.ndarray) -> tuple[float, float]:
     for i in range(p.size):
         for j in range(i + 1, p.size):
             g = math.gcd(i + 1, j + 1)
-            telling = [h for h in range(j) if (h + 1) % g]
-            if g > 1 and all(observed[h] for h in telling):
+            if g > 1 and all(observed[h] for h in range(j) if (h + 1) % g):
                 continue
             pair = (min(p[i], p[j]), max(p[i], p[j]))
             if pair[0] * pair[1] < best[0] * best[1]:

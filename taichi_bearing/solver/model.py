@@ -222,7 +222,6 @@ class Model:
             self.mr_node_class = _scalar_field(nn, ti.i32)
             self.mr_order = _scalar_field(ne, ti.i32)
             self.mr_count = _scalar_field(self.multirate_levels + 1, ti.i32)
-            self.mr_scale = _scalar_field(ne)  # 2**class of each element
 
         self.X.from_numpy(np.asarray(mesh.nodes, dtype=float))
         self.x.from_numpy(np.asarray(mesh.nodes, dtype=float))
@@ -490,7 +489,6 @@ class Model:
         self.mr_node_class.from_numpy(c.node_class.astype(np.int32))
         self.mr_order.from_numpy(c.element_order.astype(np.int32))
         self.mr_count.from_numpy(c.element_count.astype(np.int32))
-        self.mr_scale.from_numpy(2.0 ** c.element_class.astype(float))
         self.step_classes = c
         self._classes_dt = self.dt
 

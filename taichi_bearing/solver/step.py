@@ -120,7 +120,7 @@ def step_phase(m: ti.template(), phase: ti.template(), member, n_members: ti.tem
             # the members class by class: the same elements stay with the same member
             # (its cache) and every member gets its part of each class (the balance).
             # An element is evaluated once per step of its class, its damping working
-            # for that step.
+            # for that step (2**c steps; one in relaxation, where every class moves).
             top = m.multirate_levels
             if moving >= 0:
                 top = moving
@@ -128,13 +128,12 @@ def step_phase(m: ti.template(), phase: ti.template(), member, n_members: ti.tem
                 lo = 0
                 if c > 0:
                     lo = m.mr_count[c - 1]
+                dt_e = dt
+                if moving >= 0:
+                    dt_e = dt * ti.cast(1 << c, ti.f64)
                 j0, j1 = share(m.mr_count[c] - lo, member, n_members)
                 for j in range(lo + j0, lo + j1):
-                    e = m.mr_order[j]
-                    dt_e = dt
-                    if moving >= 0:
-                        dt_e = dt * m.mr_scale[e]
-                    element_forces(m, e, dt_e, damped)
+                    element_forces(m, m.mr_order[j], dt_e, damped)
         for c in ti.static(m.kernel_contributors):
             c.step_share(member, n_members, m.x, m.v, m.mass, m.f_extra, dt, dt_v)
     if ti.static(phase == GATHER):
