@@ -2,15 +2,16 @@
 
 Runs the case (default ``cases/line_spall.yaml``) for ``--duration-ms`` once per backend
 in ``--archs`` (each in its own process, after a short warm-up run that compiles its
-kernels into its own offline cache; ``cuda:4`` is cuda with 4 steps a launch,
-``$TAICHI_BEARING_STEPS_PER_LAUNCH``), prints each run's stage times (model, preload,
+kernels into its own offline cache; ``cuda:4`` is cuda with 4 steps a launch, unrolled
+(``$TAICHI_BEARING_STEPS_PER_LAUNCH``), ``cuda:g16`` cuda with 16 one-step launches a
+compute graph (``$TAICHI_BEARING_STEPS_PER_GRAPH``)), prints each run's stage times (model, preload,
 transient) and element-steps/s, the transient's speed-up over the last backend listed,
 and how far each backend's histories are from the last one's, column by column, up to
 the first spall exit (bit-identical is not expected: a GPU contracts multiply-adds and
 has its own sin and cos). With ``--full ARCH`` it then runs the whole case on ``ARCH``
 and prints its times and checks.
 
-    python benchmarks/bench_gpu.py --archs cuda cuda:4 cpu --duration-ms 3 --full cuda
+    python benchmarks/bench_gpu.py --archs cuda cuda:g16 cpu --duration-ms 3 --full cuda:g16
 
 Nothing else should run on the machine meanwhile. Taichi writes its offline cache when a
 process ends: a run killed while compiling leaves nothing cached, and the next compiles
@@ -32,14 +33,20 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
 from benchmarks.versions import ROOT, run_case  # noqa: E402
 from taichi_bearing.output.histories import read_histories  # noqa: E402
-from taichi_bearing.solver.stepping import STEPS_PER_LAUNCH_ENV  # noqa: E402
+from taichi_bearing.solver.stepping import (  # noqa: E402
+    STEPS_PER_GRAPH_ENV,
+    STEPS_PER_LAUNCH_ENV,
+)
 
 
 def run_spec(spec: str, case: str, work: Path, name: str, overrides: list[str]) -> dict:
-    """Run ``case`` on backend ``spec`` (``ARCH`` or ``ARCH:STEPS_PER_LAUNCH``) into
-    ``work/name_spec``, with that spec's own kernel cache; its summary."""
+    """Run ``case`` on backend ``spec`` (``ARCH``, ``ARCH:STEPS_PER_LAUNCH`` or
+    ``ARCH:gSTEPS_PER_GRAPH``) into ``work/name_spec``, with that spec's own kernel cache;
+    its summary."""
     arch, _, steps = spec.partition(":")
-    os.environ[STEPS_PER_LAUNCH_ENV] = steps or "1"
+    graph = steps.startswith("g")
+    os.environ[STEPS_PER_LAUNCH_ENV] = "1" if graph else steps or "1"
+    os.environ[STEPS_PER_GRAPH_ENV] = steps[1:] if graph else "1"
     safe = spec.replace(":", "_")
     return run_case(ROOT, case, work / f"{name}_{safe}", [f"run.arch={arch}", *overrides],
                     work / f"cache_{safe}")  # fmt: skip

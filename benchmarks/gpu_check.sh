@@ -1,15 +1,18 @@
 #!/usr/bin/env bash
 # The GPU checks in one call on a machine with an NVIDIA GPU (issue 17, goal 5):
-#   1. bench_gpu.py: 3 ms of the default case on cuda (one step a launch, and 4), and on
-#      the CPU, side by side (times, element-steps/s, history differences before the first
-#      spall exit);
-#   2. profile_gpu.py: where a GPU step's wall time goes (host launches or device tasks);
-#   3. the whole default case with --arch cuda (the main command; checks, times);
+#   1. bench_gpu.py: 3 ms of the default case on cuda (one step a launch from Python, and
+#      16 a compute graph: $TAICHI_BEARING_STEPS_PER_GRAPH), and on the CPU, side by side
+#      (times, element-steps/s, history differences before the first spall exit);
+#   2. profile_gpu.py: where a GPU step's wall time goes (host launches or device tasks),
+#      16 steps a graph; bench_graph.py: one step a launch against 16 a graph, alternating;
+#   3. the whole default case with --arch cuda (the main command; checks, times), with
+#      FULL_GRAPH steps a graph (default 16; 1: launches from Python);
 #   4. (MULTIRATE_S > 0, default 0: off) bench_multirate.py on cuda: multi-rate stepping at
 #      3 levels against single-rate on the convergence study's 0.125 mm local refinement.
 # Each stage's limit must leave room for compiling: Taichi writes its offline cache when a
 # process ends, so a process killed while compiling leaves nothing for the next (seen: 8
-# steps a launch took 113 s to compile on an H200's host).
+# steps a launch took 113 s to compile on an H200's host). The default limits add up to 560 s,
+# within one device call's 600 s.
 # Logs and the returned files go to $OUT (default /tmp/gpu_check). Packages missing on a
 # machine without network can be carried in .gpu/ (ignored by git): taichi_trim.tar.xz
 # (the taichi 1.7.4 cp312 manylinux wheel unzipped, without taichi/_lib/c_api,
@@ -44,20 +47,27 @@ if [[ "$msg" != *"taichi on Arch.cuda"* && -d .gpu/np ]]; then
     $PY -c "$start" 2>&1 | tail -5 | tee -a "$LOG"
 fi
 
-echo "== 1. bench_gpu: 3 ms, ${ARCHS:=cuda cuda:4 cpu}" | tee -a "$LOG"
+echo "== 1. bench_gpu: 3 ms, ${ARCHS:=cuda cuda:g16 cpu}" | tee -a "$LOG"
 # shellcheck disable=SC2086  # the backends are separate words
-timeout "${BENCH_S:-240}" $PY benchmarks/bench_gpu.py --archs $ARCHS --duration-ms 3 \
+timeout "${BENCH_S:-200}" $PY benchmarks/bench_gpu.py --archs $ARCHS --duration-ms 3 \
     --keep /tmp/bg 2>&1 | tee -a "$LOG"
 cp /tmp/bg/run_cuda/histories.parquet "$OUT/h3_cuda.parquet" 2>/dev/null
 cp /tmp/bg/run_cpu/histories.parquet "$OUT/h3_cpu.parquet" 2>/dev/null
+cp /tmp/bg/run_cuda_g16/histories.parquet "$OUT/h3_cuda_g16.parquet" 2>/dev/null
 
-echo "== 2. profile_gpu: 2000 steps" | tee -a "$LOG"
-TI_KERNEL_PROFILER=1 TAICHI_BEARING_CACHE_DIR=/tmp/bg/cache_cuda timeout "${PROFILE_S:-150}" \
+echo "== 2. profile_gpu: 2000 steps, 16 a graph; bench_graph: graph against Python" \
+    | tee -a "$LOG"
+TAICHI_BEARING_STEPS_PER_GRAPH=16 TI_KERNEL_PROFILER=1 \
+    TAICHI_BEARING_CACHE_DIR=/tmp/bg/cache_cuda timeout "${PROFILE_S:-80}" \
     $PY benchmarks/profile_gpu.py --arch cuda --steps 2000 2>&1 | grep -v '^\[Taichi\]' \
-    | head -80 | tee -a "$LOG"
+    | head -60 | tee -a "$LOG"
+TAICHI_BEARING_CACHE_DIR=/tmp/bg/cache_cuda timeout "${GRAPH_S:-80}" \
+    $PY benchmarks/bench_graph.py cases/line_spall.yaml --arch cuda --threads 0 \
+    2>&1 | grep -v '^\[Taichi\]' | tee -a "$LOG"
 
-echo "== 3. the whole default case on cuda" | tee -a "$LOG"
-TAICHI_BEARING_CACHE_DIR=/tmp/bg/cache_cuda timeout "${FULL_S:-240}" \
+echo "== 3. the whole default case on cuda, ${FULL_GRAPH:=16} steps a graph" | tee -a "$LOG"
+TAICHI_BEARING_STEPS_PER_GRAPH=$FULL_GRAPH TAICHI_BEARING_CACHE_DIR=/tmp/bg/cache_cuda \
+    timeout "${FULL_S:-200}" \
     $PY -m taichi_bearing cases/line_spall.yaml --arch cuda --no-post --out /tmp/full \
     --set output.frames=false --progress-interval 10 2>&1 | tee -a "$LOG"
 cp /tmp/full/summary.json "$OUT/summary_full.json" 2>/dev/null

@@ -44,18 +44,24 @@ def test_unknown_arch_is_input_error_and_cpu_init_is_idempotent():
     assert current_arch() == "cpu"
 
 
+@pytest.mark.parametrize("variable", ["launch", "graph"])
 @pytest.mark.parametrize("value, expected", [(None, 1), ("4", 4), ("0", None), ("x", None)])
-def test_steps_per_launch_from_the_environment(monkeypatch, value, expected):
-    """Parallel stepping's steps per launch: 1 unless the variable says otherwise, and a
-    value that is not a whole number >= 1 is an input error naming the variable."""
-    from taichi_bearing.solver.stepping import STEPS_PER_LAUNCH_ENV, parallel_steps
+def test_steps_per_launch_from_the_environment(monkeypatch, variable, value, expected):
+    """Parallel stepping's steps per launch (unrolled) and per compute graph: 1 unless the
+    variable says otherwise, and a value that is not a whole number >= 1 is an input
+    error naming the variable."""
+    from taichi_bearing.solver import stepping
 
+    name, read = {
+        "launch": (stepping.STEPS_PER_LAUNCH_ENV, stepping.parallel_steps),
+        "graph": (stepping.STEPS_PER_GRAPH_ENV, stepping.graph_steps),
+    }[variable]
     if value is None:
-        monkeypatch.delenv(STEPS_PER_LAUNCH_ENV, raising=False)
+        monkeypatch.delenv(name, raising=False)
     else:
-        monkeypatch.setenv(STEPS_PER_LAUNCH_ENV, value)
+        monkeypatch.setenv(name, value)
     if expected is None:
-        with pytest.raises(InputError, match=STEPS_PER_LAUNCH_ENV):
-            parallel_steps()
+        with pytest.raises(InputError, match=name):
+            read()
     else:
-        assert parallel_steps() == expected
+        assert read() == expected

@@ -150,15 +150,25 @@ def test_shares_tile_the_items_with_a_gpus_member_count(count):
     assert lo[0] == 0 and hi[-1] == count and (hi[:-1] == lo[1:]).all()
 
 
-def test_a_gpus_split_of_the_step_gives_the_same_motion(monkeypatch):
-    """Launches of several unrolled steps, each phase split among a GPU's 65,536 members
-    (most with nothing to do), run here on the CPU, move the disk as one thread does,
-    bit for bit (61 steps a call: launches of 4 steps and single steps)."""
+def gpu_split(monkeypatch, launch: str) -> None:
+    """Parallel stepping as on a GPU: each phase split among 65,536 members, 4 steps a
+    launch, unrolled in one kernel (``launch`` "unrolled") or dispatched by a compute
+    graph ("graph")."""
+    monkeypatch.setattr(stepping, "parallel_members", lambda: GPU_MEMBERS)
+    monkeypatch.setattr(stepping, "parallel_steps", lambda: 4 if launch == "unrolled" else 1)
+    monkeypatch.setattr(stepping, "graph_steps", lambda: 4 if launch == "graph" else 1)
+
+
+@pytest.mark.parametrize("launch", ["unrolled", "graph"])
+def test_a_gpus_split_of_the_step_gives_the_same_motion(monkeypatch, launch):
+    """Launches of several steps (unrolled, or a compute graph of one-step kernels), each
+    phase split among a GPU's 65,536 members (most with nothing to do), run here on the
+    CPU, move the disk as one thread does, bit for bit (61 steps a call, the contact's
+    grid checks between: launches of 4 steps and single steps)."""
     out = {}
     for mode in ("serial", "parallel"):
         if mode == "parallel":
-            monkeypatch.setattr(stepping, "parallel_members", lambda: GPU_MEMBERS)
-            monkeypatch.setattr(stepping, "parallel_steps", lambda: 4)
+            gpu_split(monkeypatch, launch)
         params = ContactParameters(friction_static=0.3, friction_dynamic=0.2)
         model, contact, _ = thrown_disk(params, (2.0, -1.0), omega=-300.0)
         fn = []
@@ -166,6 +176,7 @@ def test_a_gpus_split_of_the_step_gives_the_same_motion(monkeypatch):
             model.advance(61, record_last=True, mode=mode)
             fn.append(contact.contact_state()["fn"].copy())
         out[mode] = (model.positions(), np.array(fn), model.energies())
+        assert bool(model.step_graphs) is (mode == "parallel" and launch == "graph")
     assert out["serial"][1].max() > 0  # it touched
     np.testing.assert_array_equal(out["parallel"][0], out["serial"][0])
     np.testing.assert_array_equal(out["parallel"][1], out["serial"][1])
@@ -189,25 +200,25 @@ def loaded_block(repeat_a_node: bool) -> Model:
 def test_the_plate_and_the_loads_are_the_same_in_every_mode(monkeypatch, repeat_a_node):
     """The loads (split among the members, or member 0's where a node has two) and the
     rigid plate (each plate node sums the plate's velocity from the plate forces) step
-    alike on one thread, in a team and split among a GPU's members 4 steps a launch;
-    the plate stays rigid and is pushed down."""
+    alike on one thread, in a team and split among a GPU's members 4 steps a launch
+    (unrolled, or by a compute graph); the plate stays rigid and is pushed down."""
     out = {}
-    for mode in ("serial", "team", "parallel"):
-        if mode == "parallel":
-            monkeypatch.setattr(stepping, "parallel_members", lambda: GPU_MEMBERS)
-            monkeypatch.setattr(stepping, "parallel_steps", lambda: 4)
+    for mode in ("serial", "team", "parallel", "graph"):
+        if mode in ("parallel", "graph"):
+            gpu_split(monkeypatch, "unrolled" if mode == "parallel" else mode)
         model = loaded_block(repeat_a_node)
         assert model.loads_unique is not repeat_a_node
         for _ in range(20):
-            model.advance(25, record_last=True, mode=mode)
+            model.advance(25, record_last=True, mode="parallel" if mode == "graph" else mode)
         out[mode] = (model.positions(), model.velocities(), model.energies())
+        assert bool(model.step_graphs) is (mode == "graph")
         # past the ramp, every load is on its node (a node loaded twice carries both)
         total = sum(load.total for load in model.loads)
         np.testing.assert_allclose(model.f_load.to_numpy().sum(axis=0), total, rtol=1e-12)
     top = loaded_block(repeat_a_node).plate.nodes
     vy = out["serial"][1][top, 1]
     assert vy.min() < 0 and np.ptp(vy) == 0.0  # one velocity for the whole plate, downward
-    for mode in ("team", "parallel"):
+    for mode in ("team", "parallel", "graph"):
         np.testing.assert_array_equal(out[mode][0], out["serial"][0])
         np.testing.assert_array_equal(out[mode][1], out["serial"][1])
         assert out[mode][2] == out["serial"][2]

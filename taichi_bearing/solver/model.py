@@ -250,6 +250,7 @@ class Model:
         self.python_contributors: tuple[ForceContributor, ...] = ()
         self._frozen = False
         self.steps_by_mode: dict[str, int] = {}  # steps taken in each stepping mode
+        self.step_graphs: dict = {}  # compute graphs of parallel stepping, made on first use
         self.step_count = 0
         self.set_initial_velocities()
 

@@ -41,11 +41,13 @@ from taichi_bearing.solver.team import TEAM_MAX_THREADS, barrier, join
 
 __all__ = [
     "MODES",
+    "STEPS_PER_GRAPH_ENV",
     "STEPS_PER_LAUNCH_ENV",
     "SERIAL_MAX_ELEMENTS",
     "advance",
     "advance_phases",
     "choose_mode",
+    "graph_steps",
     "parallel_steps",
     "team_size",
 ]
@@ -62,6 +64,9 @@ OTHER_LOAD_LIMIT = 0.3
 # 113 s instead of ~3 s, for a transient 1.2-1.5x faster together with another change,
 # so the default waits for a measurement that separates the two.
 STEPS_PER_LAUNCH_ENV = "TAICHI_BEARING_STEPS_PER_LAUNCH"
+# Steps a parallel launch's compute graph dispatches from C++ (default 1: no graph): the
+# Python of a launch paid once for that many steps, each compiled once (see _StepGraph).
+STEPS_PER_GRAPH_ENV = "TAICHI_BEARING_STEPS_PER_GRAPH"
 
 
 @ti.kernel
@@ -119,6 +124,14 @@ def _k_phases(m: ti.template(), p0: ti.template(), p1: ti.template(), n: ti.temp
               relax: ti.i32, damped: ti.template(), n_members: ti.template()):  # fmt: skip
     """Phases ``p0 <= p < p1`` of ``n`` steps (unrolled), each a loop over ``n_members``
     members (parallel, but for one member) or member 0 alone."""
+    _phases(m, p0, p1, n, step0, dt, first0, c_mass, rec_last, relax, damped, n_members)
+
+
+@ti.func
+def _phases(m: ti.template(), p0: ti.template(), p1: ti.template(), n: ti.template(), step0,
+            dt, first0, c_mass, rec_last, relax, damped: ti.template(),
+            n_members: ti.template()):  # fmt: skip
+    """The body of :func:`_k_phases` (inlined: its loops are the kernel's outermost)."""
     for k in ti.static(range(n)):
         for p in ti.static(range(p0, p1)):
             if ti.static(SHARED[p]):
@@ -139,17 +152,85 @@ def _k_phases(m: ti.template(), p0: ti.template(), p1: ti.template(), n: ti.temp
                                c_mass, damped)  # fmt: skip
 
 
+class _StepGraph:
+    """``n`` steps dispatched from C++ in one call: a Taichi compute graph
+    (:mod:`taichi.graph`) of ``n`` launches of a one-step kernel of this model.
+
+    A launch from Python costs Taichi's argument handling (the template arguments above
+    all), some 100 us on a GPU's host, where the device's step is shorter; a graph pays it
+    once for ``n`` steps, and unlike unrolled steps (:func:`parallel_steps`) it compiles
+    one step only. The kernel is the same body as :func:`_k_phases` with ``n`` 1, the
+    model and the static choices bound when it is made: every step as before, bit for bit.
+    """
+
+    def __init__(self, model, n: int, damped: int, n_members: int) -> None:
+        self.n = n
+        kernel = _one_step_kernel(model, damped, n_members)
+        scalar = ti.graph.ArgKind.SCALAR
+        shared = {
+            name: ti.graph.Arg(scalar, name, dtype)
+            for name, dtype in (("dt", ti.f64), ("c_mass", ti.f64), ("relax", ti.i32))
+        }
+        builder = ti.graph.GraphBuilder()
+        for j in range(n):
+            builder.dispatch(
+                kernel,
+                ti.graph.Arg(scalar, f"step{j}", ti.i32),
+                shared["dt"],
+                ti.graph.Arg(scalar, f"first{j}", ti.i32),
+                shared["c_mass"],
+                ti.graph.Arg(scalar, f"rec{j}", ti.i32),
+                shared["relax"],
+            )
+        self._graph = builder.compile()
+
+    def run(self, step0: int, dt: float, first: int, c_mass: float, rec: int,
+            relax: int) -> None:  # fmt: skip
+        """Steps ``step0 .. step0 + n - 1``: ``first`` for the first, ``rec`` the last."""
+        args = {"dt": dt, "c_mass": c_mass, "relax": relax}
+        for j in range(self.n):
+            args[f"step{j}"] = step0 + j
+            args[f"first{j}"] = first if j == 0 else 0
+            args[f"rec{j}"] = rec if j == self.n - 1 else 0
+        self._graph.run(args)
+
+
+def _one_step_kernel(model, damped: int, n_members: int):
+    """One step of ``model`` as a kernel of scalar arguments only (a graph takes no
+    template argument): the model and the static choices are bound here."""
+
+    @ti.kernel
+    def one_step(step0: ti.i32, dt: ti.f64, first0: ti.i32, c_mass: ti.f64, rec_last: ti.i32,
+                 relax: ti.i32):  # fmt: skip
+        _phases(model, 0, N_PHASES, 1, step0, dt, first0, c_mass, rec_last, relax, damped,
+                n_members)  # fmt: skip
+
+    return one_step
+
+
 def parallel_steps() -> int:
     """Steps per launch in ``parallel`` stepping: ``$TAICHI_BEARING_STEPS_PER_LAUNCH``
     (:data:`STEPS_PER_LAUNCH_ENV`), default 1. Each value compiles its own kernel, with
     that many copies of the step."""
-    value = os.environ.get(STEPS_PER_LAUNCH_ENV, "1")
+    return _steps_from_env(STEPS_PER_LAUNCH_ENV)
+
+
+def graph_steps() -> int:
+    """Steps per compute graph in ``parallel`` stepping: ``$TAICHI_BEARING_STEPS_PER_GRAPH``
+    (:data:`STEPS_PER_GRAPH_ENV`), default 1 (launches from Python as before). Above 1,
+    that many one-step launches go from C++ in one call (without a Python contributor,
+    whose forces come between launches); it replaces :func:`parallel_steps`' unrolling."""
+    return _steps_from_env(STEPS_PER_GRAPH_ENV)
+
+
+def _steps_from_env(name: str) -> int:
+    value = os.environ.get(name, "1")
     try:
         n = int(value)
     except ValueError:
         n = 0
     if n < 1:
-        raise InputError(f"{STEPS_PER_LAUNCH_ENV}: a whole number >= 1, got {value!r}")
+        raise InputError(f"{name}: a whole number >= 1, got {value!r}")
     return n
 
 
@@ -237,12 +318,20 @@ def advance(model, n: int, record_last: bool = False, mode: str | None = None,
         return
     members = parallel_members()
     python = model.python_contributors
-    per_launch = 1 if python else parallel_steps()
+    per_graph = 1 if python else graph_steps()
+    per_launch = 1 if python or per_graph > 1 else parallel_steps()
+    graph = _step_graph(model, per_graph, damped, members) if per_graph > 1 else None
     done = 0
     while done < n:
         chunk = n - done
         for c in contributors:
             chunk = max(1, min(chunk, c.before_steps(model, chunk)))
+        if graph is not None and chunk >= per_graph:
+            rec = int(record_last and done + per_graph == n)
+            graph.run(model.step_count, dt, int(model.first), c_mass, rec, int(relax))
+            _after(model, contributors, per_graph, relax)
+            done += per_graph
+            continue
         k = per_launch if chunk >= per_launch else 1
         rec = int(record_last and done + k == n)
         args = (model.step_count, dt, int(model.first), c_mass, rec, int(relax), damped, members)
@@ -255,6 +344,15 @@ def advance(model, n: int, record_last: bool = False, mode: str | None = None,
             _k_phases(model, 0, N_PHASES, k, *args)
         _after(model, contributors, k, relax)
         done += k
+
+
+def _step_graph(model, n: int, damped: int, n_members: int) -> _StepGraph:
+    """The model's graph of ``n`` steps for these static choices (made once)."""
+    graphs = model.step_graphs
+    key = (n, damped, n_members)
+    if key not in graphs:
+        graphs[key] = _StepGraph(model, n, damped, n_members)
+    return graphs[key]
 
 
 def advance_phases(model, n: int, p0: int, p1: int, n_members: int = 1) -> None:
