@@ -154,7 +154,8 @@ def _phases(m: ti.template(), p0: ti.template(), p1: ti.template(), n: ti.templa
 
 class _StepGraph:
     """``n`` steps dispatched from C++ in one call: a Taichi compute graph
-    (:mod:`taichi.graph`) of ``n`` launches of a one-step kernel of this model.
+    (:mod:`taichi.graph`) of ``n`` launches of ``kernel``, one step of a model
+    (:func:`_one_step_kernel`).
 
     A launch from Python costs Taichi's argument handling (the template arguments above
     all), some 100 us on a GPU's host, where the device's step is shorter; a graph pays it
@@ -163,9 +164,8 @@ class _StepGraph:
     model and the static choices bound when it is made: every step as before, bit for bit.
     """
 
-    def __init__(self, model, n: int, damped: int, n_members: int) -> None:
+    def __init__(self, kernel, n: int) -> None:
         self.n = n
-        kernel = _one_step_kernel(model, damped, n_members)
         scalar = ti.graph.ArgKind.SCALAR
         shared = {
             name: ti.graph.Arg(scalar, name, dtype)
@@ -218,8 +218,9 @@ def parallel_steps() -> int:
 def graph_steps() -> int:
     """Steps per compute graph in ``parallel`` stepping: ``$TAICHI_BEARING_STEPS_PER_GRAPH``
     (:data:`STEPS_PER_GRAPH_ENV`), default 1 (launches from Python as before). Above 1,
-    that many one-step launches go from C++ in one call (without a Python contributor,
-    whose forces come between launches); it replaces :func:`parallel_steps`' unrolling."""
+    that many one-step launches go from C++ in one call (a shorter remainder of a chunk:
+    the largest power of 2 that fits, then the next), without a Python contributor
+    (whose forces come between launches); it replaces :func:`parallel_steps`' unrolling."""
     return _steps_from_env(STEPS_PER_GRAPH_ENV)
 
 
@@ -320,17 +321,20 @@ def advance(model, n: int, record_last: bool = False, mode: str | None = None,
     python = model.python_contributors
     per_graph = 1 if python else graph_steps()
     per_launch = 1 if python or per_graph > 1 else parallel_steps()
-    graph = _step_graph(model, per_graph, damped, members) if per_graph > 1 else None
     done = 0
     while done < n:
         chunk = n - done
         for c in contributors:
             chunk = max(1, min(chunk, c.before_steps(model, chunk)))
-        if graph is not None and chunk >= per_graph:
-            rec = int(record_last and done + per_graph == n)
+        if per_graph > 1 and chunk >= 2:
+            # The largest graph that fits: per_graph steps, else the largest power of 2
+            # below it (a chunk's remainder, e.g. 185 = 11 x 16 + 8 + 1).
+            g = per_graph if chunk >= per_graph else 1 << (chunk.bit_length() - 1)
+            rec = int(record_last and done + g == n)
+            graph = _step_graph(model, g, damped, members)
             graph.run(model.step_count, dt, int(model.first), c_mass, rec, int(relax))
-            _after(model, contributors, per_graph, relax)
-            done += per_graph
+            _after(model, contributors, g, relax)
+            done += g
             continue
         k = per_launch if chunk >= per_launch else 1
         rec = int(record_last and done + k == n)
@@ -347,12 +351,15 @@ def advance(model, n: int, record_last: bool = False, mode: str | None = None,
 
 
 def _step_graph(model, n: int, damped: int, n_members: int) -> _StepGraph:
-    """The model's graph of ``n`` steps for these static choices (made once)."""
+    """The model's graph of ``n`` steps for these static choices (made once; the graphs of
+    every ``n`` share one kernel, compiled once)."""
     graphs = model.step_graphs
-    key = (n, damped, n_members)
-    if key not in graphs:
-        graphs[key] = _StepGraph(model, n, damped, n_members)
-    return graphs[key]
+    if (n, damped, n_members) not in graphs:
+        kernel_key = ("kernel", damped, n_members)
+        if kernel_key not in graphs:
+            graphs[kernel_key] = _one_step_kernel(model, damped, n_members)
+        graphs[n, damped, n_members] = _StepGraph(graphs[kernel_key], n)
+    return graphs[n, damped, n_members]
 
 
 def advance_phases(model, n: int, p0: int, p1: int, n_members: int = 1) -> None:
