@@ -6,7 +6,8 @@
 #   2. profile_gpu.py: where a GPU step's wall time goes (host launches or device tasks),
 #      16 steps a graph; bench_graph.py: one step a launch against 16 a graph, alternating;
 #   3. the whole default case with --arch cuda (the main command; checks, times), with
-#      FULL_GRAPH steps a graph (default 16; 1: launches from Python);
+#      FULL_GRAPH steps a graph (default 16, or 1, launches from Python, where stage 1
+#      found the graph failing on cuda);
 #   4. (MULTIRATE_S > 0, default 0: off) bench_multirate.py on cuda: multi-rate stepping at
 #      3 levels against single-rate on the convergence study's 0.125 mm local refinement.
 # Each stage's limit must leave room for compiling: Taichi writes its offline cache when a
@@ -54,6 +55,9 @@ timeout "${BENCH_S:-200}" $PY benchmarks/bench_gpu.py --archs $ARCHS --duration-
 cp /tmp/bg/run_cuda/histories.parquet "$OUT/h3_cuda.parquet" 2>/dev/null
 cp /tmp/bg/run_cpu/histories.parquet "$OUT/h3_cpu.parquet" 2>/dev/null
 cp /tmp/bg/run_cuda_g16/histories.parquet "$OUT/h3_cuda_g16.parquet" 2>/dev/null
+if grep -q "cuda:g16: FAILED" "$LOG"; then
+    FULL_GRAPH=${FULL_GRAPH:-1}  # the graph did not run on cuda: stage 3 as before
+fi
 
 echo "== 2. profile_gpu: 2000 steps, 16 a graph; bench_graph: graph against Python" \
     | tee -a "$LOG"
