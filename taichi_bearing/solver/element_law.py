@@ -7,7 +7,8 @@ Per element ``e`` with nodes ``c[k]``: ``F = sum_k x_k (x) b_k``, Green strain
 ``E = (F^T F - I) / 2``, second Piola-Kirchhoff stress ``S = lambda tr(E) I + 2 mu E``,
 nodal forces ``f_k = -A t F S b_k + gamma_k f_q`` with the hourglass force
 ``f_q = -k_hg q``, ``q = sum_k gamma_k x_k``. Damping adds ``beta`` times the same law of
-the Green strain rate (zero for any rigid motion, so spin is not braked).
+the Green strain rate (zero for any rigid motion, so spin is not braked), the rate taken
+over the element's step from its strain history (:func:`seed_strain_history`).
 """
 
 # No `from __future__ import annotations`: Taichi reads kernel annotations at definition.
@@ -20,6 +21,7 @@ __all__ = [
     "green_strain",
     "hooke",
     "record_element_energies",
+    "seed_strain_history",
     "store_von_mises",
     "von_mises",
 ]
@@ -66,9 +68,17 @@ def element_forces(m: ti.template(), e, dt, damped: ti.template()):
     S, tr_e = hooke(lam, mu, E)
     fq = -k_hg * q
     if ti.static(damped):
-        Fd, qd = gradient(m.v, c, bx, by, g)
+        # The rates over the element's step from its strain history (E and q at its last
+        # evaluation): the same as the law of the velocities the nodes moved with, to
+        # O(dt |grad v|) (seed_strain_history), without gathering the velocities.
+        Ev = ti.Vector([E[0, 0], E[1, 1], E[0, 1]])
+        inv_dt = 1.0 / dt
+        Edv = (Ev - m.e_prev[e]) * inv_dt
+        qd = (q - m.q_prev[e]) * inv_dt
+        m.e_prev[e] = Ev
+        m.q_prev[e] = q
         beta = m.beta_e[e]
-        Ed = 0.5 * (F.transpose() @ Fd + Fd.transpose() @ F)
+        Ed = ti.Matrix([[Edv[0], Edv[2]], [Edv[2], Edv[1]]])
         Sd, tr_d = hooke(lam, mu, Ed)
         S += beta * Sd
         fq -= beta * k_hg * qd
@@ -80,6 +90,34 @@ def element_forces(m: ti.template(), e, dt, damped: ti.template()):
         m.fe[4 * e + k] = -at * (P @ ti.Vector([bx[k], by[k]])) + g[k] * fq
     if not F.determinant() > 0.0:
         ti.atomic_min(m.bad_element[None], e)
+
+
+@ti.kernel
+def seed_strain_history(m: ti.template(), dt: ti.f64, multirate: ti.i32):
+    """Each element's strain history (``m.e_prev``, ``m.q_prev``: the Green strain and
+    hourglass sum at its previous evaluation, one element step ``dt_e`` ago) as the
+    nodes' present velocities imply it: ``E - dt_e dE/dt`` with the Green strain rate
+    ``sym(F^T grad v)`` and ``q - dt_e sum gamma v``. The next evaluation's rates from
+    the history are then those of the velocities, as a restart (half step) takes them.
+    ``dt_e`` is ``dt`` times ``2**c`` for an element of multi-rate class ``c`` (the
+    fastest of its nodes' classes) when ``multirate``, else ``dt``."""
+    for e in range(m.n_elements):
+        c = m.conn[e]
+        bx, by, g = m.bx[e], m.by[e], m.gam[e]
+        F, q = gradient(m.x, c, bx, by, g)
+        Fd, qd = gradient(m.v, c, bx, by, g)
+        E = green_strain(F)
+        Ed = 0.5 * (F.transpose() @ Fd + Fd.transpose() @ F)
+        dt_e = dt
+        if ti.static(m.multirate_levels > 0):
+            if multirate != 0:
+                cls = m.mr_node_class[c[0]]
+                for k in ti.static(range(1, 4)):
+                    cls = ti.min(cls, m.mr_node_class[c[k]])
+                dt_e = dt * ti.cast(1 << cls, ti.f64)
+        m.e_prev[e] = ti.Vector([E[0, 0] - dt_e * Ed[0, 0], E[1, 1] - dt_e * Ed[1, 1],
+                                 E[0, 1] - dt_e * Ed[0, 1]])  # fmt: skip
+        m.q_prev[e] = q - dt_e * qd
 
 
 @ti.func

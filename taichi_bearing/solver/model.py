@@ -205,6 +205,12 @@ class Model:
         self.e_int = _scalar_field(ne)  # strain energy at the last recorded step
         self.e_hg = _scalar_field(ne)  # hourglass energy at the last recorded step
         self.e_damp = _scalar_field(ne)  # energy dissipated by damping so far
+        # strain history of the damped elements: Green strain (xx, yy, xy) and hourglass
+        # sum at each element's previous evaluation (element_law.seed_strain_history)
+        self.e_prev = _vec_field(ne if self.damped else 1, 3)
+        self.q_prev = _vec_field(ne if self.damped else 1, 2)
+        self.history_stale = True  # seed it before the next step
+        self.history_key: tuple | None = None  # (dt, multi-rate) it was taken with
         self.jac = _scalar_field(ne)  # det F at the last recorded step
         self.von_mises = _scalar_field(ne)
         self.bad_element = ti.field(ti.i32, shape=())
@@ -380,6 +386,7 @@ class Model:
         self.sensor_sum.fill(0.0)
         self.first = True
         self.step_count = 0
+        self.history_stale = True
 
     # ------------------------------------------------------------------ time step
 
@@ -421,6 +428,8 @@ class Model:
         """Use a time step not above the stable one (e.g. to fit the output interval)."""
         if not 0 < dt <= self.dt_stable * (1 + 1e-12):
             raise ValueError(f"dt {dt!r} must lie in (0, {self.dt_stable!r}] (stable step)")
+        if self._dt_set != float(dt):
+            self.history_stale = True
         self._dt_set = float(dt)
 
     @property
@@ -596,14 +605,19 @@ class Model:
             self.x.from_numpy(np.ascontiguousarray(x, dtype=float))
         if v is not None:
             self.v.from_numpy(np.ascontiguousarray(v, dtype=float))
+        self.history_stale = True
 
     # ------------------------------------------------------------------ checkpoint state
 
     _STATE_FIELDS = ("x", "v", "a", "f_other", "work", "e_damp", "sensor_sum", "v_int")
+    # Checkpoints written before the strain history lack these: seeded again on resume.
+    _HISTORY_FIELDS = ("e_prev", "q_prev")
 
     def state_arrays(self) -> dict[str, np.ndarray]:
         """Everything needed to continue bit for bit (see :meth:`load_state_arrays`)."""
-        out = {name: getattr(self, name).to_numpy() for name in self._STATE_FIELDS}
+        names = self._STATE_FIELDS + self._HISTORY_FIELDS
+        out = {name: getattr(self, name).to_numpy() for name in names}
+        out["history_stale"] = np.int64(self.history_stale)
         out["step_count"] = np.int64(self.step_count)
         out["first"] = np.int64(self.first)
         out["dt"] = np.float64(self.dt)
@@ -611,7 +625,8 @@ class Model:
 
     def load_state_arrays(self, arrays: Mapping[str, np.ndarray]) -> None:
         """Restore a state from :meth:`state_arrays`."""
-        for name in self._STATE_FIELDS:
+        history = all(name in arrays for name in self._HISTORY_FIELDS)
+        for name in self._STATE_FIELDS + (self._HISTORY_FIELDS if history else ()):
             field = getattr(self, name)
             a = np.asarray(arrays[name])
             if a.shape != field.to_numpy().shape:
@@ -620,6 +635,8 @@ class Model:
         self.step_count = int(arrays["step_count"])
         self.first = bool(arrays["first"])
         self._dt_set = float(arrays["dt"])
+        self.history_stale = not history or bool(arrays.get("history_stale", 0))
+        self.history_key = None  # whatever the resumed run steps with
 
 
 def rigid_velocity_field(

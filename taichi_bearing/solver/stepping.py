@@ -35,7 +35,7 @@ from taichi_bearing.solver.backend import (
     parallel_members,
     serial_loops,
 )
-from taichi_bearing.solver.element_law import record_element_energies
+from taichi_bearing.solver.element_law import record_element_energies, seed_strain_history
 from taichi_bearing.solver.step import GATHER, N_PHASES, SHARED, step_phase, step_times
 from taichi_bearing.solver.team import TEAM_MAX_THREADS, barrier, join
 
@@ -296,6 +296,7 @@ def advance(model, n: int, record_last: bool = False, mode: str | None = None,
     model.freeze_contributors()
     model.prepare_step_classes()
     relax = relax_damping is not None
+    _seed_history(model, relax)
     c_mass = float(relax_damping) if relax else 0.0
     dt, damped = model.dt, int(model.damped)
     contributors = model.kernel_contributors
@@ -369,8 +370,25 @@ def advance_phases(model, n: int, p0: int, p1: int, n_members: int = 1) -> None:
     contributors' counts are left as they were; what the phases write is not undone."""
     model.freeze_contributors()
     model.prepare_step_classes()
+    _seed_history(model, False)
     _k_chunk(model, n, model.step_count, model.dt, 0, 0.0, 0, 0, int(model.damped),
              n_members, p0, p1)  # fmt: skip
+
+
+def _seed_history(model, relax: bool) -> None:
+    """Seed the damped elements' strain history from the velocities
+    (:func:`~taichi_bearing.solver.element_law.seed_strain_history`) where it does not
+    hold the last steps: after a restart, a new state or step, or where the elements'
+    steps change (relaxation is single-rate; a multi-rate transient steps class ``c``
+    every ``2**c`` steps). A history read from a checkpoint is kept (bit-for-bit resume)."""
+    if not model.damped:
+        return
+    multirate = int(model.multirate_levels > 0 and not relax)
+    key = (model.dt, multirate)
+    if model.history_stale or model.history_key not in (key, None):
+        seed_strain_history(model, model.dt, multirate)
+        model.history_stale = False
+    model.history_key = key
 
 
 def _after(model, contributors, n: int, relax: bool) -> None:
