@@ -428,8 +428,6 @@ class Model:
         """Use a time step not above the stable one (e.g. to fit the output interval)."""
         if not 0 < dt <= self.dt_stable * (1 + 1e-12):
             raise ValueError(f"dt {dt!r} must lie in (0, {self.dt_stable!r}] (stable step)")
-        if self._dt_set != float(dt):
-            self.history_stale = True
         self._dt_set = float(dt)
 
     @property
