@@ -1,19 +1,23 @@
 #!/usr/bin/env bash
-# The GPU checks in one call on a machine with an NVIDIA GPU (issue 17, goal 5):
-#   1. bench_gpu.py: 3 ms of the default case on cuda (one step a launch from Python, and
-#      16 a compute graph: $TAICHI_BEARING_STEPS_PER_GRAPH), and on the CPU, side by side
-#      (times, element-steps/s, history differences before the first spall exit);
-#   2. profile_gpu.py: where a GPU step's wall time goes (host launches or device tasks),
-#      16 steps a graph; bench_graph.py: one step a launch against 16 a graph, alternating;
-#   3. the whole default case with --arch cuda (the main command; checks, times), with
-#      FULL_GRAPH steps a graph (default 16, or 1, launches from Python, where stage 1
-#      found the graph failing on cuda);
-#   4. (MULTIRATE_S > 0, default 0: off) bench_multirate.py on cuda: multi-rate stepping at
-#      3 levels against single-rate on the convergence study's 0.125 mm local refinement.
-# Each stage's limit must leave room for compiling: Taichi writes its offline cache when a
-# process ends, so a process killed while compiling leaves nothing for the next (seen: 8
-# steps a launch took 113 s to compile on an H200's host). The default limits add up to 560 s,
-# within one device call's 600 s.
+# The GPU checks in one call on a machine with an NVIDIA GPU (issue 17, goal 5). Stages,
+# chosen by $STAGES (default "bench profile whole"), each under its own time limit:
+#   bench      bench_gpu.py: 3 ms of the default case on $ARCHS (default: cuda with 16 steps
+#              a compute graph, cuda with one step a launch from Python, and the host CPU),
+#              side by side (times, element-steps/s, history differences);
+#   profile    profile_gpu.py: where a GPU step's wall time goes (host launches or device
+#              tasks); bench_graph.py: one step a launch against 16 a graph, alternating;
+#   sample     profile_sample.py: an output sample's steps against the run's read-out;
+#   whole      the whole default case with --arch cuda (the main command; checks, times),
+#              with $FULL_GRAPH steps a graph (default 16; 1 where `bench` found the
+#              graph failing on cuda);
+#   python     the whole case again with one step a launch from Python (side by side);
+#   multirate  bench_multirate.py on cuda: 3 levels against single-rate on the
+#              convergence study's 0.125 mm local refinement.
+# Every stage shares one kernel cache (/tmp/bg/cache_cuda). Each stage's limit must leave
+# room for compiling: Taichi writes its offline cache when a process ends, so a process
+# killed while compiling leaves nothing for the next (seen: 8 steps a launch took 113 s to
+# compile on an H200's host). The default stages' limits add up to 560 s, within one
+# device call's 600 s.
 # Logs and the returned files go to $OUT (default /tmp/gpu_check). Packages missing on a
 # machine without network can be carried in .gpu/ (ignored by git): taichi_trim.tar.xz
 # (the taichi 1.7.4 cp312 manylinux wheel unzipped, without taichi/_lib/c_api,
@@ -23,6 +27,7 @@
 # :all: --python-version 3.12 --platform manylinux_2_27_x86_64 ...`.
 #
 #   bash benchmarks/gpu_check.sh
+#   STAGES="sample whole python" bash benchmarks/gpu_check.sh
 set -u -o pipefail
 OUT=${OUT:-/tmp/gpu_check}
 mkdir -p "$OUT"
@@ -48,38 +53,53 @@ if [[ "$msg" != *"taichi on Arch.cuda"* && -d .gpu/np ]]; then
     $PY -c "$start" 2>&1 | tail -5 | tee -a "$LOG"
 fi
 
-echo "== 1. bench_gpu: 3 ms, ${ARCHS:=cuda cuda:g16 cpu}" | tee -a "$LOG"
-# shellcheck disable=SC2086  # the backends are separate words
-timeout "${BENCH_S:-200}" $PY benchmarks/bench_gpu.py --archs $ARCHS --duration-ms 3 \
-    --keep /tmp/bg 2>&1 | tee -a "$LOG"
-cp /tmp/bg/run_cuda/histories.parquet "$OUT/h3_cuda.parquet" 2>/dev/null
-cp /tmp/bg/run_cpu/histories.parquet "$OUT/h3_cpu.parquet" 2>/dev/null
-cp /tmp/bg/run_cuda_g16/histories.parquet "$OUT/h3_cuda_g16.parquet" 2>/dev/null
-if grep -q "cuda:g16: FAILED" "$LOG"; then
-    FULL_GRAPH=${FULL_GRAPH:-1}  # the graph did not run on cuda: stage 3 as before
+STAGES=" ${STAGES:-bench profile whole} "
+FULL_GRAPH=${FULL_GRAPH:-16}
+export TAICHI_BEARING_CACHE_DIR=/tmp/bg/cache_cuda
+want() { [[ "$STAGES" == *" $1 "* ]]; }
+
+if want bench; then
+    echo "== bench: bench_gpu, 3 ms, ${ARCHS:=cuda:g16 cuda cpu}" | tee -a "$LOG"
+    # shellcheck disable=SC2086  # the backends are separate words
+    timeout "${BENCH_S:-200}" $PY benchmarks/bench_gpu.py --archs $ARCHS --duration-ms 3 \
+        --keep /tmp/bg 2>&1 | tee -a "$LOG"
+    for run in /tmp/bg/run_*; do
+        [ -f "$run/histories.parquet" ] && cp "$run/histories.parquet" "$OUT/h3_${run##*/run_}.parquet"
+    done
+    if grep -q "cuda:g16: FAILED" "$LOG"; then
+        FULL_GRAPH=1  # the graph did not run on cuda: the whole case as before
+    fi
 fi
 
-echo "== 2. profile_gpu: 2000 steps, 16 a graph; bench_graph: graph against Python" \
-    | tee -a "$LOG"
-TAICHI_BEARING_STEPS_PER_GRAPH=16 TI_KERNEL_PROFILER=1 \
-    TAICHI_BEARING_CACHE_DIR=/tmp/bg/cache_cuda timeout "${PROFILE_S:-80}" \
-    $PY benchmarks/profile_gpu.py --arch cuda --steps 2000 2>&1 | grep -v '^\[Taichi\]' \
-    | head -60 | tee -a "$LOG"
-TAICHI_BEARING_CACHE_DIR=/tmp/bg/cache_cuda timeout "${GRAPH_S:-80}" \
-    $PY benchmarks/bench_graph.py cases/line_spall.yaml --arch cuda --threads 0 \
-    2>&1 | grep -v '^\[Taichi\]' | tee -a "$LOG"
+if want profile; then
+    echo "== profile: profile_gpu, 2000 steps, 16 a graph; bench_graph" | tee -a "$LOG"
+    TAICHI_BEARING_STEPS_PER_GRAPH=16 TI_KERNEL_PROFILER=1 timeout "${PROFILE_S:-80}" \
+        $PY benchmarks/profile_gpu.py --arch cuda --steps 2000 2>&1 | grep -v '^\[Taichi\]' \
+        | head -60 | tee -a "$LOG"
+    timeout "${GRAPH_S:-80}" $PY benchmarks/bench_graph.py cases/line_spall.yaml --arch cuda \
+        --threads 0 2>&1 | grep -v '^\[Taichi\]' | tee -a "$LOG"
+fi
 
-echo "== 3. the whole default case on cuda, ${FULL_GRAPH:=16} steps a graph" | tee -a "$LOG"
-TAICHI_BEARING_STEPS_PER_GRAPH=$FULL_GRAPH TAICHI_BEARING_CACHE_DIR=/tmp/bg/cache_cuda \
-    timeout "${FULL_S:-200}" \
-    $PY -m taichi_bearing cases/line_spall.yaml --arch cuda --no-post --out /tmp/full \
-    --set output.frames=false --progress-interval 10 2>&1 | tee -a "$LOG"
-cp /tmp/full/summary.json "$OUT/summary_full.json" 2>/dev/null
-cp /tmp/full/histories.parquet "$OUT/h_full.parquet" 2>/dev/null
+if want sample; then
+    echo "== sample: profile_sample, 20 samples" | tee -a "$LOG"
+    timeout "${SAMPLE_S:-80}" $PY benchmarks/profile_sample.py --arch cuda --samples 20 2>&1 \
+        | grep -v '^\[Taichi\]' | tee -a "$LOG"
+fi
 
-if [ "${MULTIRATE_S:-0}" -gt 0 ]; then
-    echo "== 4. bench_multirate on cuda: levels 0 and 3, 4000 steps" | tee -a "$LOG"
-    timeout "$MULTIRATE_S" $PY benchmarks/bench_multirate.py --arch cuda --levels 0 3 \
+whole() {  # the whole default case on cuda, $1 steps a graph, into /tmp/full_$1
+    echo "== whole: the default case on cuda, $1 steps a graph" | tee -a "$LOG"
+    TAICHI_BEARING_STEPS_PER_GRAPH=$1 timeout "$2" $PY -m taichi_bearing cases/line_spall.yaml \
+        --arch cuda --no-post --out "/tmp/full_$1" --set output.frames=false \
+        --progress-interval 10 2>&1 | grep -v '^\[Taichi\]' | tee -a "$LOG"
+    cp "/tmp/full_$1/summary.json" "$OUT/summary_full_g$1.json" 2>/dev/null
+    cp "/tmp/full_$1/histories.parquet" "$OUT/h_full_g$1.parquet" 2>/dev/null
+}
+want whole && whole "$FULL_GRAPH" "${FULL_S:-200}"
+want python && whole 1 "${PYTHON_S:-150}"
+
+if want multirate; then
+    echo "== multirate: bench_multirate on cuda, levels 0 and 3, 4000 steps" | tee -a "$LOG"
+    timeout "${MULTIRATE_S:-150}" $PY benchmarks/bench_multirate.py --arch cuda --levels 0 3 \
         --repeats 1 --steps 4000 2>&1 | grep -v '^\[Taichi\]' | tee -a "$LOG"
 fi
 exit 0

@@ -45,11 +45,13 @@ def test_unknown_arch_is_input_error_and_cpu_init_is_idempotent():
 
 
 @pytest.mark.parametrize("variable", ["launch", "graph"])
-@pytest.mark.parametrize("value, expected", [(None, 1), ("4", 4), ("0", None), ("x", None)])
+@pytest.mark.parametrize(
+    "value, expected", [(None, "default"), ("4", 4), ("1", 1), ("0", None), ("x", None)]
+)
 def test_steps_per_launch_from_the_environment(monkeypatch, variable, value, expected):
-    """Parallel stepping's steps per launch (unrolled) and per compute graph: 1 unless the
-    variable says otherwise, and a value that is not a whole number >= 1 is an input
-    error naming the variable."""
+    """Parallel stepping's steps per launch (unrolled; default 1) and per compute graph
+    (default 16): the default unless the variable says otherwise, and a value that is not
+    a whole number >= 1 is an input error naming the variable."""
     from taichi_bearing.solver import stepping
 
     name, read = {
@@ -64,4 +66,5 @@ def test_steps_per_launch_from_the_environment(monkeypatch, variable, value, exp
         with pytest.raises(InputError, match=name):
             read()
     else:
-        assert read() == expected
+        default = {"launch": 1, "graph": 16}[variable]
+        assert read() == (default if expected == "default" else expected)

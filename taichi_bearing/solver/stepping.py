@@ -40,6 +40,7 @@ from taichi_bearing.solver.step import GATHER, N_PHASES, SHARED, step_phase, ste
 from taichi_bearing.solver.team import TEAM_MAX_THREADS, barrier, join
 
 __all__ = [
+    "DEFAULT_STEPS_PER_GRAPH",
     "MODES",
     "STEPS_PER_GRAPH_ENV",
     "STEPS_PER_LAUNCH_ENV",
@@ -64,9 +65,11 @@ OTHER_LOAD_LIMIT = 0.3
 # 113 s instead of ~3 s, for a transient 1.2-1.5x faster together with another change,
 # so the default waits for a measurement that separates the two.
 STEPS_PER_LAUNCH_ENV = "TAICHI_BEARING_STEPS_PER_LAUNCH"
-# Steps a parallel launch's compute graph dispatches from C++ (default 1: no graph): the
-# Python of a launch paid once for that many steps, each compiled once (see _StepGraph).
+# Steps a parallel launch's compute graph dispatches from C++ (1: no graph): the Python
+# of a launch paid once for that many steps, each compiled once (see _StepGraph).
 STEPS_PER_GRAPH_ENV = "TAICHI_BEARING_STEPS_PER_GRAPH"
+# 16: on an H200 a step 48 us against 100 from Python (docs/results/gpu), histories alike
+DEFAULT_STEPS_PER_GRAPH = 16
 
 
 @ti.kernel
@@ -217,15 +220,16 @@ def parallel_steps() -> int:
 
 def graph_steps() -> int:
     """Steps per compute graph in ``parallel`` stepping: ``$TAICHI_BEARING_STEPS_PER_GRAPH``
-    (:data:`STEPS_PER_GRAPH_ENV`), default 1 (launches from Python as before). Above 1,
-    that many one-step launches go from C++ in one call (a shorter remainder of a chunk:
-    the largest power of 2 that fits, then the next), without a Python contributor
-    (whose forces come between launches); it replaces :func:`parallel_steps`' unrolling."""
-    return _steps_from_env(STEPS_PER_GRAPH_ENV)
+    (:data:`STEPS_PER_GRAPH_ENV`), default :data:`DEFAULT_STEPS_PER_GRAPH`; 1 launches
+    each step from Python. Above 1, that many one-step launches go from C++ in one call
+    (a shorter remainder of a chunk: the largest power of 2 that fits, then the next),
+    without a Python contributor (whose forces come between launches); it replaces
+    :func:`parallel_steps`' unrolling. The histories are the same either way."""
+    return _steps_from_env(STEPS_PER_GRAPH_ENV, DEFAULT_STEPS_PER_GRAPH)
 
 
-def _steps_from_env(name: str) -> int:
-    value = os.environ.get(name, "1")
+def _steps_from_env(name: str, default: int = 1) -> int:
+    value = os.environ.get(name, str(default))
     try:
         n = int(value)
     except ValueError:
