@@ -59,7 +59,8 @@ export TAICHI_BEARING_CACHE_DIR=/tmp/bg/cache_cuda
 want() { [[ "$STAGES" == *" $1 "* ]]; }
 
 if want bench; then
-    echo "== bench: bench_gpu, 3 ms, ${ARCHS:=cuda:g16 cuda cpu}" | tee -a "$LOG"
+    ARCHS=${ARCHS:-cuda:g16 cuda cpu}  # not `:=` in the pipe below: a subshell's
+    echo "== bench: bench_gpu, 3 ms, $ARCHS" | tee -a "$LOG"
     # shellcheck disable=SC2086  # the backends are separate words
     timeout "${BENCH_S:-200}" $PY benchmarks/bench_gpu.py --archs $ARCHS --duration-ms 3 \
         --keep /tmp/bg 2>&1 | tee -a "$LOG"
