@@ -15,7 +15,6 @@ Nothing else should run on the machine meanwhile.
 """
 
 # No `from __future__ import annotations`: Taichi reads kernel annotations at definition.
-import argparse
 import os
 import statistics
 import sys
@@ -28,14 +27,12 @@ from taichi_bearing.solver.stepping import STEPS_PER_GRAPH_ENV  # noqa: E402
 
 
 def main() -> int:
-    p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    p.add_argument("case", nargs="?", default="cases/validation/coarse_spall.yaml")
-    p.add_argument("--arch", default="cpu")
-    p.add_argument("--threads", type=int, default=1)
+    from benchmarks.preloaded import case_parser
+
+    p = case_parser(__doc__, "cases/validation/coarse_spall.yaml", arch="cpu", threads=1)
     p.add_argument("--graph", type=int, default=16, help="steps a graph")
     p.add_argument("--steps", type=int, default=2000, help="steps a timing")
     p.add_argument("--rounds", type=int, default=4)
-    p.add_argument("--set", dest="overrides", action="append", default=[])
     args = p.parse_args()
 
     import taichi as ti

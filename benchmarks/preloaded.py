@@ -2,8 +2,26 @@
 
 from __future__ import annotations
 
+import argparse
 import time
 from collections.abc import Callable, Sequence
+
+
+def case_parser(
+    doc: str, case: str = "cases/line_spall.yaml", arch: str | None = None,
+    threads: int | None = None,
+) -> argparse.ArgumentParser:  # fmt: skip
+    """The arguments every profiling script shares: the case file (``case`` by default),
+    ``--set KEY=VALUE`` overrides (``overrides``), and ``--arch`` and ``--threads`` where
+    a default is given; the description is the first paragraph of ``doc``."""
+    p = argparse.ArgumentParser(description=doc.split("\n\n")[0])
+    p.add_argument("case", nargs="?", default=case)
+    if arch is not None:
+        p.add_argument("--arch", default=arch)
+    if threads is not None:
+        p.add_argument("--threads", type=int, default=threads)
+    p.add_argument("--set", dest="overrides", action="append", default=[])
+    return p
 
 
 def preloaded_model(

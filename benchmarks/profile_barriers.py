@@ -17,7 +17,6 @@ for, beside the whole step's time. Nothing else should run on the machine meanwh
 """
 
 # No `from __future__ import annotations`: Taichi reads kernel annotations at definition.
-import argparse
 import sys
 import tempfile
 import time
@@ -77,12 +76,11 @@ def spin_cost_ns(flag, n: int = 2_000_000) -> float:
 
 
 def main() -> int:
-    p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    p.add_argument("case", nargs="?", default="cases/line_spall.yaml")
-    p.add_argument("--threads", type=int, default=2)
+    from benchmarks.preloaded import case_parser
+
+    p = case_parser(__doc__, threads=2)
     p.add_argument("--samples", type=int, default=20, help="output samples a repeat")
     p.add_argument("--repeats", type=int, default=3)
-    p.add_argument("--set", dest="overrides", action="append", default=[])
     args = p.parse_args()
     if args.threads < 2:
         p.error("--threads: a team needs 2 or more")

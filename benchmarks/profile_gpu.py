@@ -11,7 +11,6 @@ the host's launches, not by the device.
 """
 
 # No `from __future__ import annotations`: Taichi reads kernel annotations at definition.
-import argparse
 import cProfile
 import os
 import pstats
@@ -23,12 +22,10 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
 
 def main() -> int:
-    p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    p.add_argument("case", nargs="?", default="cases/line_spall.yaml")
-    p.add_argument("--arch", default="cuda")
-    p.add_argument("--threads", type=int, default=0)
+    from benchmarks.preloaded import case_parser
+
+    p = case_parser(__doc__, arch="cuda", threads=0)
     p.add_argument("--steps", type=int, default=2000)
-    p.add_argument("--set", dest="overrides", action="append", default=[])
     args = p.parse_args()
 
     import taichi as ti

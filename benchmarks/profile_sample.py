@@ -12,7 +12,6 @@ microseconds, a read-out piece of a few milliseconds is a large share of the run
 """
 
 # No `from __future__ import annotations`: Taichi reads kernel annotations at definition.
-import argparse
 import statistics
 import sys
 import time
@@ -22,12 +21,10 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
 
 def main() -> int:
-    p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    p.add_argument("case", nargs="?", default="cases/line_spall.yaml")
-    p.add_argument("--arch", default="cpu")
-    p.add_argument("--threads", type=int, default=0)
+    from benchmarks.preloaded import case_parser
+
+    p = case_parser(__doc__, arch="cpu", threads=0)
     p.add_argument("--samples", type=int, default=20)
-    p.add_argument("--set", dest="overrides", action="append", default=[])
     args = p.parse_args()
 
     import taichi as ti

@@ -19,7 +19,6 @@ the machine meanwhile.
 """
 
 # No `from __future__ import annotations`: Taichi reads kernel annotations at definition.
-import argparse
 import sys
 import time
 from pathlib import Path
@@ -39,11 +38,11 @@ def best_time(fn, n: int, repeats: int) -> float:
 
 
 def main() -> int:
-    p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    p.add_argument("case", nargs="?", default="cases/line_spall.yaml")
+    from benchmarks.preloaded import case_parser
+
+    p = case_parser(__doc__)
     p.add_argument("--steps", type=int, default=300)
     p.add_argument("--repeats", type=int, default=3)
-    p.add_argument("--set", dest="overrides", action="append", default=[])
     args = p.parse_args()
 
     import taichi as ti

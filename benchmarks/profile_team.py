@@ -13,7 +13,6 @@ run from the same state. Nothing else should run on the machine meanwhile.
 """
 
 # No `from __future__ import annotations`: Taichi reads kernel annotations at definition.
-import argparse
 import sys
 import time
 from pathlib import Path
@@ -22,12 +21,11 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
 
 def main() -> int:
-    p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    p.add_argument("case", nargs="?", default="cases/line_spall.yaml")
-    p.add_argument("--threads", type=int, default=2)
+    from benchmarks.preloaded import case_parser
+
+    p = case_parser(__doc__, threads=2)
     p.add_argument("--steps", type=int, default=300)
     p.add_argument("--repeats", type=int, default=5)
-    p.add_argument("--set", dest="overrides", action="append", default=[])
     args = p.parse_args()
     if args.threads < 2:
         p.error("--threads: a team needs 2 or more")
