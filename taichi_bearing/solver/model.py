@@ -540,8 +540,9 @@ class Model:
 
     @ti.kernel
     def _k_measure(self):
-        # Blocks of MEASURE_BLOCK items, each summed in index order by one thread, then
-        # the blocks in order by one thread: the same sums on any thread count, without
+        # Blocks of MEASURE_BLOCK items, each summed by one thread, then the blocks by one
+        # thread (the compiled order is fixed, though fast math may regroup a loop's
+        # additions): the same sums on any thread count, without
         # one thread's dependent chain over every node and element (on a GPU that chain
         # took ~18 ms an output sample, more than the sample's 186 steps).
         nb = self.n_node_blocks
