@@ -120,6 +120,15 @@ def add_analyze_arguments(parser: argparse.ArgumentParser) -> None:
         help="table of time_s and rpm (or shaft_hz): the speed varies, diagnose in orders",
     )
     parser.add_argument(
+        "--rpm-range",
+        type=float,
+        nargs=2,
+        metavar=("MIN", "MAX"),
+        help="no tachometer: find the shaft speed in the vibration within MIN-MAX rpm "
+        "(estimate_speed; give the narrowest range you know); stops if none is found with "
+        "confidence",
+    )
+    parser.add_argument(
         "--notch",
         type=float,
         nargs="+",
@@ -203,6 +212,12 @@ def _figures(x, fs: float, d: Diagnosis, notch: list[float], raw, out: Path) -> 
     return written
 
 
+def _speed_figure(rates: np.ndarray, fs: float, source: str, out: Path) -> str:
+    from diagnostics import plots
+
+    return _save(plots.plot_speed(rates, fs, title=f"Shaft speed ({source})"), out / "speed.png")
+
+
 def _family_summary(d: Diagnosis) -> dict:
     out = {}
     for name, s in d.families.items():
@@ -277,14 +292,20 @@ def check_notches(notches: list[float], fs: float) -> None:
             )
 
 
+# An estimated speed is used when at least this share of its frames found the ridge clearly.
+_MIN_SPEED_CONFIDENCE = 0.5
+
+
 def shaft_rate(args: argparse.Namespace, sig):
     """Shaft rate (Hz) for ``analyze``: one value (``--rpm`` or the file's), or one per sample
-    (``--tacho`` channel or ``--speed-profile`` table). Returns ``(rate, source)``."""
+    (``--tacho`` channel, ``--speed-profile`` table, or estimated within ``--rpm-range``).
+    Returns ``(rate, source, confidence)``, the confidence None unless estimated."""
     from diagnostics.io import read_speed_profile
-    from diagnostics.speed import speed_from_tacho
+    from diagnostics.speed import estimate_speed, speed_from_tacho
 
     given = [o for o, v in (("--rpm", args.rpm), ("--tacho", args.tacho),
-                            ("--speed-profile", args.speed_profile)) if v is not None]  # fmt: skip
+                            ("--speed-profile", args.speed_profile),
+                            ("--rpm-range", args.rpm_range)) if v is not None]  # fmt: skip
     if len(given) > 1:
         raise UsageError(f"give one speed source, not {' and '.join(given)}")
     if args.ppr < 1:
@@ -294,22 +315,40 @@ def shaft_rate(args: argparse.Namespace, sig):
     if args.tacho is not None:
         try:
             tacho = sig.channel(args.tacho)
-            return speed_from_tacho(tacho, sig.fs, pulses_per_rev=args.ppr), "tacho"
+            return speed_from_tacho(tacho, sig.fs, pulses_per_rev=args.ppr), "tacho", None
         except ValueError as exc:
             raise UsageError(f"--tacho {args.tacho}: {exc}") from None
     if args.speed_profile is not None:
         try:
-            return read_speed_profile(args.speed_profile, sig.fs, sig.x.size), "speed profile"
+            profile = read_speed_profile(args.speed_profile, sig.fs, sig.x.size)
+            return profile, "speed profile", None
         except ValueError as exc:
             raise UsageError(f"--speed-profile: {exc}") from None
+    if args.rpm_range is not None:
+        low, high = args.rpm_range
+        if not (math.isfinite(low) and math.isfinite(high) and 0 < low < high):
+            raise UsageError(f"--rpm-range must be two speeds 0 < MIN < MAX, got {low:g} {high:g}")
+        try:
+            est = estimate_speed(sig.x, sig.fs, low / 60.0, high / 60.0)
+        except ValueError as exc:
+            raise UsageError(f"--rpm-range: {exc}") from None
+        if est.confidence < _MIN_SPEED_CONFIDENCE:
+            raise UsageError(
+                f"--rpm-range: no shaft speed found with confidence within {low:g}-{high:g} "
+                f"rpm (confidence {est.confidence:.2f}, best guess "
+                f"{float(np.median(est.shaft_hz)) * 60:.0f} rpm); narrow the range or give "
+                "--rpm, --tacho or --speed-profile"
+            )
+        return est.shaft_hz, "estimated", est.confidence
     rpm = args.rpm if args.rpm is not None else sig.meta.get("rpm")
     if rpm is None:
         raise UsageError(
-            f"{args.file}: the file holds no shaft speed; give --rpm, --tacho or --speed-profile"
+            f"{args.file}: the file holds no shaft speed; give --rpm, --tacho, "
+            "--speed-profile or --rpm-range"
         )
     if not (math.isfinite(rpm) and rpm > 0):
         raise UsageError(f"--rpm must be a positive speed, got {rpm:g}")
-    return rpm / 60.0, "--rpm" if args.rpm is not None else "file"
+    return rpm / 60.0, "--rpm" if args.rpm is not None else "file", None
 
 
 def run_analyze(args: argparse.Namespace) -> int:
@@ -320,7 +359,7 @@ def run_analyze(args: argparse.Namespace) -> int:
     geometry = parse_bearing(args.bearing)
     check_fs_option(args.fs)
     sig = read_signal(args.file, channel=args.channel, fs=args.fs)
-    shaft_hz, speed_source = shaft_rate(args, sig)
+    shaft_hz, speed_source, speed_confidence = shaft_rate(args, sig)
     rates = np.atleast_1d(shaft_hz)
     rpm = float(rates.mean()) * 60.0
     check_notches(args.notch, sig.fs)
@@ -333,6 +372,8 @@ def run_analyze(args: argparse.Namespace) -> int:
         x = notch_filter(x, sig.fs, f0)
     d = diagnose(x, sig.fs, geometry, shaft_hz)
     figures = _figures(x, sig.fs, d, list(args.notch), raw, out)
+    if rates.size > 1:
+        figures.append(_speed_figure(rates, sig.fs, speed_source, out))
     kg = d.kurtogram
     summary = {
         "file": str(args.file),
@@ -345,6 +386,7 @@ def run_analyze(args: argparse.Namespace) -> int:
             "source": speed_source,
             "min_rpm": float(rates.min()) * 60.0,
             "max_rpm": float(rates.max()) * 60.0,
+            "confidence": speed_confidence,
         },
         "domain": d.domain,
         "samples_per_rev": d.samples_per_rev,

@@ -283,7 +283,8 @@ def _resolve_fs(path: Path, fs: float | None, fs_file: float | None) -> float:
     if fs_file is None:
         if fs is None:
             raise ValueError(
-                f"{path}: the file holds no sampling rate; give fs (Hz), e.g. fs=12000"
+                f"{path}: the file holds no sampling rate; give fs (Hz; --fs on the command line), "
+                "e.g. fs=12000"
             )
         return fs
     if fs is not None and abs(fs - fs_file) > _FS_TOLERANCE * fs_file:

@@ -28,6 +28,7 @@ __all__ = [
     "plot_psd_notch",
     "plot_third_octave",
     "plot_time_trace",
+    "plot_speed",
     "fault_markers",
 ]
 
@@ -87,6 +88,30 @@ def plot_time_trace(x, fs: float, events=None, ax: Axes | None = None, unit: str
     _mark_events(ax, events)
     ax.set_xlabel("time (s)")
     ax.set_ylabel(f"signal ({unit})" if unit else "signal")
+    return fig
+
+
+def plot_speed(shaft_hz, fs: float, ax: Axes | None = None, title: str = "Shaft speed") -> Figure:
+    """Shaft speed (rpm) over a record, one rate per sample (a tachometer's, a profile's or
+    :func:`diagnostics.speed.estimate_speed`'s).
+
+    Parameters
+    ----------
+    shaft_hz : array_like
+        Shaft rate in Hz at every sample.
+    fs : float
+        Sampling rate in Hz.
+    ax : matplotlib.axes.Axes, optional
+        Axes to draw into.
+    title : str
+        Figure title.
+    """
+    rate = check_signal(shaft_hz, fs)
+    fig, ax = _axes(ax)
+    ax.plot(np.arange(rate.size) / fs, rate * 60.0, lw=1.0, color="tab:blue")
+    ax.set_xlabel("time (s)")
+    ax.set_ylabel("speed (rpm)")
+    ax.set_title(title)
     return fig
 
 

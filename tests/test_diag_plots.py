@@ -143,3 +143,13 @@ def test_draws_into_a_given_axes(impacts):
     ax1, ax2 = fig.subplots(2)
     assert plots.plot_time_trace(x, FS, ax=ax2) is fig
     assert len(ax2.get_lines()) == 1 and len(ax1.get_lines()) == 0
+
+
+def test_speed_in_rpm_over_time():
+    rate = np.linspace(10.0, 25.0, int(2 * FS))  # Hz
+    fig = plots.plot_speed(rate, FS)
+    (line,) = fig.axes[0].get_lines()
+    t, rpm = (np.asarray(a) for a in line.get_data())
+    assert t[-1] == pytest.approx((rate.size - 1) / FS)
+    assert rpm[0] == pytest.approx(600.0) and rpm[-1] == pytest.approx(1500.0)
+    assert fig.axes[0].get_ylabel() == "speed (rpm)"

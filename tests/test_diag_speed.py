@@ -249,21 +249,32 @@ def _analyze(record, *extra):
                  "--bearing", "n=9,d=7.94mm,D=39.04mm", *extra])  # fmt: skip
 
 
-@pytest.mark.parametrize("how", ["tacho", "profile"])
+@pytest.mark.parametrize("how", ["tacho", "profile", "estimated"])
 def test_cli_varying_speed(varying_files, tmp_path, capsys, how):
     import json
 
     record, profile = varying_files
-    source = (
-        ["--tacho", "tacho", "--ppr", "1"] if how == "tacho" else ["--speed-profile", str(profile)]
-    )
+    source = {
+        "tacho": ["--tacho", "tacho", "--ppr", "1"],
+        "profile": ["--speed-profile", str(profile)],
+        "estimated": ["--rpm-range", "300", "2400"],
+    }[how]
     assert _analyze(record, *source, "--out", str(tmp_path / how)) == 0
     out = capsys.readouterr().out
     assert "order domain" in out and "verdict: outer fault" in out
     summary = json.loads((tmp_path / how / "summary.json").read_text())
     assert summary["domain"] == "order" and summary["verdict"] == "outer"
-    assert summary["speed"]["min_rpm"] == pytest.approx(600.0, rel=0.03)  # held before 1st pulse
-    assert summary["speed"]["max_rpm"] == pytest.approx(1500.0, rel=0.01)
+    assert (tmp_path / how / "speed.png").is_file()
+    if how == "estimated":
+        # held before the first frame's centre (0.41 s: 661 rpm) and after the last one's
+        assert summary["speed"]["min_rpm"] == pytest.approx(661.0, rel=0.02)
+        assert summary["speed"]["max_rpm"] == pytest.approx(1439.0, rel=0.02)
+        assert summary["speed"]["confidence"] > 0.9
+    else:
+        # held before the first pulse
+        assert summary["speed"]["min_rpm"] == pytest.approx(600.0, rel=0.03)
+        assert summary["speed"]["max_rpm"] == pytest.approx(1500.0, rel=0.01)
+        assert summary["speed"]["confidence"] is None
     assert summary["fault_orders"]["bpfo_hz"] == pytest.approx(ORDERS.bpfo)
     # The same record at its mean speed, as if steady: no fault is seen.
     assert _analyze(record, "--rpm", "1050", "--out", str(tmp_path / "steady")) == 0
@@ -277,6 +288,9 @@ def test_cli_varying_speed(varying_files, tmp_path, capsys, how):
         (["--tacho", "tacho", "--rpm", "900"], r"one speed source, not --rpm and --tacho"),
         (["--tacho", "tacho", "--ppr", "0"], r"--ppr must be a positive number"),
         (["--speed-profile", "absent.csv"], r"--speed-profile: file not found: absent.csv"),
+        (["--rpm-range", "2400", "300"], r"--rpm-range must be two speeds 0 < MIN < MAX"),
+        (["--rpm-range", "300", "2400", "--rpm", "900"], r"not --rpm and --rpm-range"),
+        (["--rpm-range", "300", "90000"], r"--rpm-range: n_harmonics \* f_max = .* below fs/2"),
     ],
 )
 def test_cli_varying_speed_bad_input(varying_files, tmp_path, capsys, extra, message):
@@ -286,3 +300,14 @@ def test_cli_varying_speed_bad_input(varying_files, tmp_path, capsys, extra, mes
     assert _analyze(record, *extra, "--out", str(tmp_path / "x")) == 2
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and re.search(message, err[0]), err
+
+
+def test_cli_estimated_speed_refuses_a_record_without_one(tmp_path, capsys):
+    """Noise has no shaft harmonics: no speed is found, and analyze stops with one line."""
+    record = tmp_path / "noise.csv"
+    noise = np.random.default_rng(5).standard_normal(int(6 * FS))
+    np.savetxt(record, noise, header="accel", comments="", fmt="%.6g")
+    assert _analyze(record, "--rpm-range", "300", "2400", "--out", str(tmp_path / "x")) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "--rpm-range: no shaft speed found with confidence" in err[0], err
+    assert not (tmp_path / "x").exists()
