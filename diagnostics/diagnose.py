@@ -229,7 +229,8 @@ class Diagnosis:
         (a varying speed), and every frequency and band is in orders (cycles per shaft
         revolution), ``frequencies`` at a shaft rate of 1.
     samples_per_rev : float or None
-        Angular sampling of the order domain (None in time).
+        Angular sampling of the order-domain record analysed (None in time): the orders it
+        holds, up to half of it, are those present all through the record.
     """
 
     fault: str
@@ -670,8 +671,12 @@ def diagnose(
         Add the kurtogram's best band of the random part of the record after
         discrete/random separation (:func:`diagnostics.separation.discrete_random_separation`).
     samples_per_rev : float, optional
-        Angular sampling of the order domain; default ``fs / min(shaft_hz)``, which keeps the
-        record's whole band at the slowest speed.
+        Angular sampling of the order tracking; default ``fs / min(shaft_hz)``, which keeps
+        the record's whole band at the slowest speed. The analysis then keeps only the orders
+        present all through the record, up to ``fs / 2 / max(shaft_hz)`` (and the tracking's
+        anti-aliasing cut-off): above them the content comes and goes with the speed, which
+        the kurtogram would take for impulsiveness. ``Diagnosis.samples_per_rev`` is the
+        angular sampling of what was analysed.
 
     Returns
     -------
@@ -734,14 +739,39 @@ def diagnose(
     orders = bearing_frequencies(geometry, 1.0)
     slowest = min(orders.bpfo, orders.bpfi, 2.0 * orders.bsf)
     revolutions = float(shaft_angle(rate, fs)[-1])
-    needed = 20.0 / slowest + 2.0 * _TAPER_S
+    # The prewhitening's taper covers the same time at the mean speed as in the time domain.
+    taper = _TAPER_S * float(rate.mean())
+    needed = 20.0 / slowest + 2.0 * taper
     if revolutions < needed:
         raise ValueError(
             f"x is too short: the record covers {revolutions:.3g} shaft revolutions; diagnose "
             f"needs {needed:.3g} (20 periods of the slowest fault order, {slowest:.4g})"
         )
+    return _diagnose_orders(x, fs, geometry, rate, spr, taper, options)
+
+
+def _diagnose_orders(
+    x: np.ndarray,
+    fs: float,
+    geometry: BearingGeometry,
+    rate: np.ndarray,
+    spr: float,
+    taper: float,
+    options: dict,
+) -> Diagnosis:
+    """:func:`diagnose` in the order domain: order-track at ``spr`` samples per revolution,
+    keep the orders held all through the record, diagnose at a shaft rate of 1."""
     tracked = order_track(x, fs, rate, spr)
-    d = _diagnose_steady(tracked.x, spr, geometry, 1.0, **options)
+    # Only the orders held all through the record are analysed: above them the content comes
+    # and goes with the speed (and the prewhitening would raise an empty band to unit level),
+    # which the kurtogram reads as impulsiveness. An FFT resampling keeps exactly that band.
+    kept = int(round(tracked.x.size * 2.0 * tracked.cutoff_order / spr))
+    if kept < tracked.x.size:
+        band_limited = signal.resample(tracked.x, kept)
+        spr = spr * kept / tracked.x.size
+    else:
+        band_limited = tracked.x
+    d = _diagnose_steady(band_limited, spr, geometry, 1.0, taper=taper, **options)
     return replace(d, domain="order", samples_per_rev=spr)
 
 
@@ -758,8 +788,10 @@ def _diagnose_steady(
     nlevel: int,
     use_kurtogram: bool,
     use_drs: bool,
+    taper: float = _TAPER_S,
 ) -> Diagnosis:
-    """:func:`diagnose` at one shaft rate (Hz, or 1 in the order domain)."""
+    """:func:`diagnose` at one shaft rate (Hz, or 1 in the order domain, where ``taper`` is
+    in revolutions)."""
     fs, shaft_hz = check_bearing_inputs(geometry, fs, shaft_hz)
     slip = check_positive(slip, "slip")
     if slip >= 0.1:
@@ -778,7 +810,7 @@ def _diagnose_steady(
             f"fs = {fs:g} Hz is too low for these fault frequencies (up to {f_high:.4g} Hz)"
         )
     x = check_varying(check_signal(x, fs))
-    min_len = int(math.ceil(20.0 * fs / f_low + 2 * _TAPER_S * fs))
+    min_len = int(math.ceil(20.0 * fs / f_low + 2 * taper * fs))
     if x.size < min_len:
         raise ValueError(
             f"x is too short: {x.size} samples last {x.size / fs:.3g} s at fs = {fs:g} Hz; "
@@ -786,7 +818,7 @@ def _diagnose_steady(
             "fault frequency, and the tapers)"
         )
 
-    white = prewhiten(x, fs)
+    white = prewhiten(x, fs, taper)
     candidates: list[tuple[str, tuple[float, float], float, np.ndarray]] = [
         ("prewhitened", (0.0, fs / 2.0), 0.0, white)
     ]

@@ -438,7 +438,9 @@ class OrderTrack:
     times : numpy.ndarray
         Time (s) of each resampled point.
     cutoff_order : float
-        Anti-aliasing cut-off, in orders.
+        Highest order the result holds over the whole record: the anti-aliasing cut-off, or
+        the record's own band (fs/2) at its fastest speed, whichever is lower. Above it,
+        orders are held only while the shaft turns slowly enough, or not at all.
     """
 
     x: np.ndarray = field(repr=False)
@@ -454,9 +456,10 @@ def order_track(x, fs: float, shaft_hz, samples_per_rev: float, *, axis: int = -
     The shaft angle is the integral of ``shaft_hz``; the record is evaluated at angles
     ``k / samples_per_rev`` by cubic interpolation. An angular sampling of ``samples_per_rev``
     holds orders up to ``samples_per_rev / 2``; at the slowest speed that is
-    ``samples_per_rev / 2 * min(shaft_hz)`` Hz, so the record is first low-passed (zero-phase
-    Butterworth, 8th order) at 0.8 of that frequency when it lies below fs/2: nothing above
-    the angular Nyquist order folds back.
+    ``samples_per_rev / 2 * min(shaft_hz)`` Hz, so where that lies below fs/2 the record is
+    first low-passed (zero-phase Butterworth, 8th order) at 0.8 of that frequency: nothing
+    above the angular Nyquist order folds back. Where it does not, nothing can fold and the
+    record is not filtered.
 
     Parameters
     ----------
@@ -508,8 +511,11 @@ def order_track(x, fs: float, shaft_hz, samples_per_rev: float, *, axis: int = -
         raise ValueError(
             f"the record covers {angle[-1]:.3g} shaft revolutions; order tracking needs at least 2"
         )
-    cutoff_hz = 0.8 * 0.5 * spr * float(rate.min())
-    if cutoff_hz < 0.5 * fs * 0.999:
+    # Where the slowest speed's angular Nyquist reaches fs/2 nothing can fold back (the
+    # record holds nothing above fs/2), and a low-pass would only cut the top of the band.
+    filtered = 0.5 * spr * float(rate.min()) < 0.5 * fs * 0.999
+    if filtered:
+        cutoff_hz = 0.8 * 0.5 * spr * float(rate.min())
         sos = signal.butter(8, cutoff_hz, btype="lowpass", output="sos", fs=fs)
         padlen = min(3 * (2 * len(sos) + 1), n - 1)
         data = signal.sosfiltfilt(sos, data, axis=-1, padlen=padlen)
@@ -518,6 +524,7 @@ def order_track(x, fs: float, shaft_hz, samples_per_rev: float, *, axis: int = -
     spline = interpolate.make_interp_spline(angle, data, k=3, axis=-1)
     resampled = spline(targets)
     resampled = resampled if resampled.ndim == 1 else np.moveaxis(resampled, -1, axis)
-    # Orders kept everywhere in the record: the filter's, or the band the sampling holds.
-    cutoff_order = min(0.4 * spr, 0.5 * fs / float(rate.max()))
+    # Orders held everywhere in the record: up to the filter's cut-off (if any) and the
+    # record's own band at its fastest.
+    cutoff_order = min(0.4 * spr if filtered else 0.5 * spr, 0.5 * fs / float(rate.max()))
     return OrderTrack(resampled, spr, targets, times, cutoff_order)
