@@ -243,7 +243,11 @@ def estimate_speed(
     that can outweigh weak shaft harmonics. On the 31 development records (CWRU, MFPT),
     sought within 20-35 Hz, the rate is found within 0.2 % of the CWRU files' RPM and 1 % of
     MFPT's nominal 25 Hz in 25 of them; the other six get a confidence of 0 (five of MFPT's
-    inner-race records, one record too short).
+    inner-race records, one record too short). A fast change on such a line-rich spectrum is
+    not followed: CWRU records replayed with the shaft slowing from full to half speed in 13
+    s read at half the rate or below, since frames short enough to follow the change cannot tell the
+    lines a cage rate from the shaft harmonics from those half-way between; the confidence
+    stays low there (0.00-0.11).
 
     Parameters
     ----------
