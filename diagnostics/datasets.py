@@ -112,7 +112,16 @@ def _number_labels() -> dict[int, RecordLabel]:
 _CWRU_FAULT = re.compile(r"(?<![a-z])(ir|or|b)(\d{3})(?:@(\d{1,2}))?_(\d)(?!\d)", re.IGNORECASE)
 _CWRU_NORMAL = re.compile(r"(?<![a-z])normal(?:[ _-]?baseline)?(?:[ _-]+(\d))?", re.IGNORECASE)
 _CWRU_END = re.compile(r"(drive|fan)[ _-]?end|(?<![a-z])(de|fe)(?![a-z])", re.IGNORECASE)
-_CWRU_RATE = re.compile(r"(?<!\d)(12|48)[ _-]?k(?:hz)?(?![a-z])", re.IGNORECASE)
+_CWRU_RATE = re.compile(
+    r"(?<!\d)(12|48)(?:[ _-]?k(?:hz)?(?![a-z])|(?=[ _-]?(?:drive|fan)[ _-]?end))", re.IGNORECASE
+)
+# The layout of the ``cwru`` Python package's downloads: ``12DriveEndFault/1797/0.007-Ball.mat``,
+# ``0.021-OuterRace6.mat``, ``NormalBaseline/1772/Normal.mat``; the load from the speed folder.
+_CWRU_SIZE_FAULT = re.compile(
+    r"(?<![\d.])0?\.(\d{3})[ _-]*(ball|inner[ _-]?race|outer[ _-]?race)(\d{1,2})?(?![a-z])",
+    re.IGNORECASE,
+)
+_CWRU_LOAD_RPM = re.compile(r"(?<!\d)(1797|1772|1750|1730)(?!\d)")
 _MFPT = re.compile(r"(innerrace|outerrace)fault|(?<![a-z])baseline_\d", re.IGNORECASE)
 _FAULTS = {"ir": "inner", "or": "outer", "b": "ball"}
 
@@ -186,6 +195,8 @@ def label_from_name(path) -> RecordLabel | None:
     'inner'
     >>> label_from_name("317.mat")                  # the data center's own file name
     RecordLabel(source='CWRU', fault='outer', end='fan', size_in=0.021, position='@3', load='2', fs=12000.0)
+    >>> label_from_name("12FanEndFault/1772/0.014-OuterRace3.mat")  # the cwru package's
+    RecordLabel(source='CWRU', fault='outer', end='fan', size_in=0.014, position='@3', load='1', fs=12000.0)
     >>> label_from_name("notes.mat") is None
     True
     """  # noqa: E501
@@ -200,15 +211,23 @@ def label_from_name(path) -> RecordLabel | None:
     rate = _last(_CWRU_RATE, text)
     fs = float(rate.group(1)) * 1000.0 if rate else None
     fault = _last(_CWRU_FAULT, name) or _last(_CWRU_FAULT, text)
+    sized = None if fault else _last(_CWRU_SIZE_FAULT, name)
+    if sized:
+        kind = sized.group(2).lower()[0]
+        return RecordLabel(
+            "CWRU",
+            {"b": "ball", "i": "inner", "o": "outer"}[kind],
+            _end_from(text),
+            size_in=int(sized.group(1)) / 1000.0,
+            position=f"@{sized.group(3)}" if sized.group(3) and kind == "o" else "",
+            load=_load_from_rpm(text),
+            fs=fs,
+        )
     if fault:
-        end_match = _last(_CWRU_END, text)
-        end = "drive"
-        if end_match and (end_match.group(1) or end_match.group(2))[0].lower() == "f":
-            end = "fan"
         return RecordLabel(
             "CWRU",
             _FAULTS[fault.group(1).lower()],
-            end,
+            _end_from(text),
             size_in=int(fault.group(2)) / 1000.0,
             position=f"@{fault.group(3)}" if fault.group(3) else "",
             load=fault.group(4),
@@ -216,7 +235,8 @@ def label_from_name(path) -> RecordLabel | None:
         )
     normal = _last(_CWRU_NORMAL, name) or _last(_CWRU_NORMAL, text)
     if normal:
-        return RecordLabel("CWRU", "none", "drive", load=normal.group(1) or "", fs=CWRU_NORMAL_FS)
+        load = normal.group(1) or _load_from_rpm(text)
+        return RecordLabel("CWRU", "none", "drive", load=load, fs=CWRU_NORMAL_FS)
     number = re.fullmatch(r"x?0*(\d+)", Path(path).stem, re.IGNORECASE)
     if number:  # the data center's own names: the record number alone
         return _NUMBER_LABELS.get(int(number.group(1)))
@@ -224,6 +244,23 @@ def label_from_name(path) -> RecordLabel | None:
 
 
 _NUMBER_LABELS = _number_labels()
+
+
+def _end_from(text: str) -> str:
+    """The end a CWRU path names (drive end unless it names the fan end)."""
+    match = _last(_CWRU_END, text)
+    if match and (match.group(1) or match.group(2))[0].lower() == "f":
+        return "fan"
+    return "drive"
+
+
+def _load_from_rpm(text: str) -> str:
+    """Motor load (hp) of a path holding a nominal speed folder (1797 rpm: 0), or ""."""
+    match = _last(_CWRU_LOAD_RPM, text)
+    if match is None:
+        return ""
+    by_rpm = {int(rpm): load for load, rpm in CWRU_NOMINAL_RPM.items()}
+    return str(by_rpm[int(match.group(1))])
 
 
 def _last(pattern: re.Pattern, text: str):

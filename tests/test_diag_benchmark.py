@@ -41,6 +41,15 @@ NAMES = {
     "160.mat": ("CWRU", "outer", "drive", 0.007, "@12", "3", 12000.0),
     "318.mat": ("CWRU", "outer", "fan", 0.021, "@3", "3", 12000.0),
     "98.mat": ("CWRU", "none", "drive", None, "", "1", 48000.0),
+    # The cwru Python package's downloads: experiment and speed folders, size-fault names.
+    "CWRU/12DriveEndFault/1797/12DriveEndFault/1797/0.007-Ball.mat":
+        ("CWRU", "ball", "drive", 0.007, "", "0", 12000.0),
+    "CWRU/12FanEndFault/1772/12FanEndFault/1772/0.014-OuterRace3.mat":
+        ("CWRU", "outer", "fan", 0.014, "@3", "1", 12000.0),
+    "CWRU/48DriveEndFault/1730/48DriveEndFault/1730/0.021-InnerRace.mat":
+        ("CWRU", "inner", "drive", 0.021, "", "3", 48000.0),
+    "CWRU/12DriveEndFault/1750/NormalBaseline/1750/Normal.mat":
+        ("CWRU", "none", "drive", None, "", "2", 48000.0),
 }  # fmt: skip
 
 
@@ -115,6 +124,32 @@ def test_fan_end_record_reads_fan_channel_bearing_and_nominal_speed(synthetic_se
     rec = read_labelled_record(synthetic_set / "normal_0_97.mat")
     assert rec.channel == "X097_DE_time" and rec.geometry == CWRU_DRIVE_END
     assert rec.fs == 48000.0 and rec.shaft_hz == pytest.approx(1797 / 60.0)
+
+
+def test_the_cwru_package_layout_is_read(synthetic_set, tmp_path):
+    """The same files laid out as the cwru Python package downloads them: experiment and
+    speed folders, size-fault names without the record number."""
+    root = tmp_path / "Datasets" / "CWRU"
+    layout = {
+        "12k_Drive_End_OR007@6_0_130.mat":
+            "12DriveEndFault/1797/12DriveEndFault/1797/0.007-OuterRace6.mat",
+        "12k_Fan_End_IR007_1_279.mat": "12FanEndFault/1772/12FanEndFault/1772/0.007-InnerRace.mat",
+        "normal_0_97.mat": "12DriveEndFault/1797/NormalBaseline/1797/Normal.mat",
+    }  # fmt: skip
+    for source, target in layout.items():
+        (root / target).parent.mkdir(parents=True)
+        (root / target).write_bytes((synthetic_set / source).read_bytes())
+    results = run_benchmark(find_records(root))
+    verdicts = {
+        r.path.relative_to(root).as_posix(): (r.group, r.expected, r.verdict) for r in results
+    }
+    assert verdicts == {
+        layout["12k_Drive_End_OR007@6_0_130.mat"]: ("CWRU 12k drive end", "outer", "outer"),
+        layout["12k_Fan_End_IR007_1_279.mat"]: ("CWRU 12k fan end", "inner", "inner"),
+        layout["normal_0_97.mat"]: ("CWRU 48k drive end", "none", "none"),
+    }
+    fan = read_labelled_record(root / layout["12k_Fan_End_IR007_1_279.mat"])
+    assert fan.channel == "X279_FE_time" and fan.shaft_hz == pytest.approx(1772 / 60.0)
 
 
 def test_benchmark_names_every_synthetic_fault(synthetic_set):
