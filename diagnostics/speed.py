@@ -208,6 +208,8 @@ class SpeedEstimate:
 _SALIENCE = 4.0
 # Frame lengths tried: 4 periods of f_min, then doubled up to this many times.
 _FRAME_DOUBLINGS = 3
+# Frames needed to tell lines that move from lines that stay.
+_MIN_FRAMES_MOVING = 8
 
 
 def estimate_speed(
@@ -235,8 +237,12 @@ def estimate_speed(
     ``f_min`` are tried and the one whose ridge stands highest over the other candidates is
     kept: measured spectra hold lines a few hertz apart (CWRU's, at shaft harmonics and a
     cage rate above them) that only long frames resolve, while a fast speed change wants
-    short ones. The rate at every sample is a monotone cubic through the frame centres, held
-    at the ends.
+    short ones. Lines that keep their frequency through the record (the mains and its
+    harmonics, a fixed tone) form series of their own that can outweigh weak shaft
+    harmonics; each frame length is therefore also searched with every bin's median over
+    the frames taken out, and a ridge found clearly there (half the frames salient; at least
+    8 frames) is preferred: one that moves is the shaft's. The rate at every sample is a
+    monotone cubic through the frame centres, held at the ends.
 
     Give the narrowest range the machine allows: a strong fault's lines form harmonic series
     of their own (an inner-race fault's lines ``n BPFI + m fr`` hold one at ``BPFI - 3 fr``)
@@ -315,10 +321,21 @@ def estimate_speed(
         )
     # The frame whose ridge stands highest over its candidates: long frames resolve lines a
     # few hertz apart (measured spectra are full of them), short ones follow a fast change.
-    times, ridge_hz, frame_salience = max(
-        (_ridge(x, fs, f_min, f_max, n, n_harmonics, max_change) for n in frames),
-        key=lambda r: float(np.median(r[2])),
-    )
+    ridges, moving = [], []
+    for n in frames:
+        times, df, level = _whitened_spectrogram(x, fs, f_min, f_max, n, n_harmonics)
+        ridges.append(_ridge(level, times, df, f_min, f_max, n_harmonics, max_change))
+        # Lines that keep their frequency all through the record (the mains, a fixed tone)
+        # can outweigh weak shaft harmonics: with each bin's median over the frames taken
+        # out, a ridge that moves, found clearly, is the shaft's.
+        if times.size >= _MIN_FRAMES_MOVING:
+            stays = np.median(level, axis=1, keepdims=True)
+            found = _ridge(
+                np.maximum(level - stays, 0.0), times, df, f_min, f_max, n_harmonics, max_change
+            )
+            if np.mean(found[2] >= _SALIENCE) >= 0.5:
+                moving.append(found)
+    times, ridge_hz, frame_salience = max(moving or ridges, key=lambda r: float(np.median(r[2])))
     confidence = float(np.mean(frame_salience >= _SALIENCE))
     t = np.arange(x.size) / fs
     if times.size == 1:
@@ -329,16 +346,11 @@ def estimate_speed(
     return SpeedEstimate(rate, confidence, times, ridge_hz, frame_salience)
 
 
-def _ridge(
-    x: np.ndarray,
-    fs: float,
-    f_min: float,
-    f_max: float,
-    nperseg: int,
-    n_harmonics: int,
-    max_change: float,
-) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Frame centres, ridge rate and ridge salience of one spectrogram frame length."""
+def _whitened_spectrogram(
+    x: np.ndarray, fs: float, f_min: float, f_max: float, nperseg: int, n_harmonics: int
+) -> tuple[np.ndarray, float, np.ndarray]:
+    """Frame centres (s), bin spacing (Hz) and whitened, log-compressed spectrogram of one
+    frame length, up to the top harmonic of ``f_max``."""
     hop = nperseg // 4
     nfft = 4 * nperseg  # zero-padded: harmonics read between bins without scalloping bias
     df = fs / nfft
@@ -359,7 +371,19 @@ def _ridge(
     # harmonic counts by how far it stands above its neighbourhood, and a loud line (a
     # resonance, a fault or electrical tone) counts little more than a clear one.
     background = ndimage.median_filter(power, size=(2 * half + 1, 1), mode="nearest")
-    level = np.log1p(power / np.maximum(background, np.finfo(float).tiny))
+    return times, df, np.log1p(power / np.maximum(background, np.finfo(float).tiny))
+
+
+def _ridge(
+    level: np.ndarray,
+    times: np.ndarray,
+    df: float,
+    f_min: float,
+    f_max: float,
+    n_harmonics: int,
+    max_change: float,
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Frame centres, ridge rate and ridge salience through a whitened spectrogram."""
     # Candidate rates on a grid finer than the frame's resolution shared by the harmonics.
     step = 4.0 * df / (2.0 * n_harmonics)
     grid = np.arange(f_min, f_max + step / 2, step)

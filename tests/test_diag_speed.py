@@ -273,6 +273,20 @@ def test_order_domain_from_tacho_and_from_the_vibration(varying):
     assert diagnose(x, FS, GEOMETRY, estimated.shaft_hz).fault == fault
 
 
+def test_speed_from_the_vibration_beside_mains_lines(varying):
+    """Lines that keep their frequency (50, 100 and 150 Hz, each twice the first shaft
+    harmonic's amplitude) beside the ramp: a harmonic series that does not move, which the
+    speed ridge must not follow (it did: a constant rate, 100 % off with confidence 1)."""
+    fault, rate, x = varying
+    t = np.arange(rate.size) / FS
+    x = x + sum(4.0 * np.cos(2 * np.pi * 50.0 * k * t) for k in (1, 2, 3))
+    estimated = estimate_speed(x, FS, 5.0, 40.0)
+    inside = slice(int(1.0 * FS), -int(1.0 * FS))
+    assert np.max(np.abs(estimated.shaft_hz[inside] / rate[inside] - 1.0)) < 0.02
+    assert estimated.confidence > 0.9
+    assert diagnose(x, FS, GEOMETRY, estimated.shaft_hz).fault == fault
+
+
 def test_noise_at_varying_speed_is_healthy():
     rate = ramp()
     x = np.random.default_rng(9).standard_normal(rate.size)
