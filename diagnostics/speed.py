@@ -428,20 +428,32 @@ def _ridge(
 
 
 def _best_path(score: np.ndarray, grid: np.ndarray, times: np.ndarray, max_change: float):
-    """Grid index per frame maximising the summed score, with a bounded step per frame."""
+    """Grid index per frame maximising the summed score, the rate changing from one frame to
+    the next by at most ``max_change`` of itself per second."""
     n_grid, n_frames = score.shape
     dt = times[1] - times[0] if times.size > 1 else 1.0
-    # Steps allowed from one frame to the next, in grid cells (relative change at f_max).
-    reach = max(1, int(math.ceil(max_change * dt * grid[-1] / (grid[1] - grid[0]))))
+    # Cells each candidate may come from: +-max_change * dt of its own rate.
+    cells = np.arange(n_grid)
+    reach = np.maximum(1, np.ceil(max_change * dt * grid / (grid[1] - grid[0]))).astype(np.int64)
+    lo = np.maximum(cells - reach, 0)
+    hi = np.minimum(cells + reach, n_grid - 1)
+    # Range-maximum queries over [lo, hi] by a sparse table: the larger of two overlapping
+    # power-of-two windows.
+    span = np.floor(np.log2(hi - lo + 1)).astype(np.int64)
     total = score[:, 0].copy()
     back = np.zeros((n_grid, n_frames), dtype=np.int64)
     for j in range(1, n_frames):
-        # Best predecessor within +-reach cells: a running maximum over the window.
-        padded = np.concatenate([np.full(reach, -np.inf), total, np.full(reach, -np.inf)])
-        windows = np.lib.stride_tricks.sliding_window_view(padded, 2 * reach + 1)
-        offset = np.argmax(windows, axis=1)
-        back[:, j] = np.arange(n_grid) + offset - reach
-        total = windows[np.arange(n_grid), offset] + score[:, j]
+        best = [cells.copy()]  # index of the maximum of total over [i, i + 2**k)
+        for k in range(1, int(span.max()) + 1):
+            prev = best[-1]
+            shifted = np.concatenate([prev[1 << (k - 1) :], prev[-1:].repeat(1 << (k - 1))])
+            best.append(np.where(total[shifted] > total[prev], shifted, prev))
+        table = np.stack(best)
+        left = table[span, lo]
+        right = table[span, hi - (1 << span) + 1]
+        origin = np.where(total[right] > total[left], right, left)
+        back[:, j] = origin
+        total = total[origin] + score[:, j]
     path = np.empty(n_frames, dtype=np.int64)
     path[-1] = int(np.argmax(total))
     for j in range(n_frames - 1, 0, -1):

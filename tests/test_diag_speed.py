@@ -132,6 +132,41 @@ def test_estimate_speed_on_measured_records():
     assert hits >= 0.75 * len(records)
 
 
+def test_speed_ridge_changes_by_at_most_max_change_of_its_own_rate():
+    """The ridge's dynamic programme against a direct search over every predecessor within
+    +-max_change * dt of each candidate's own rate (random scores, random grids)."""
+    from diagnostics.speed import _best_path
+
+    rng = np.random.default_rng(0)
+    for _ in range(20):
+        n, m = int(rng.integers(5, 60)), int(rng.integers(2, 7))
+        grid, times = np.linspace(5.0, 50.0, n), np.arange(m) * 0.3
+        score, change = rng.standard_normal((n, m)), float(rng.uniform(0.05, 1.0))
+        reach = np.maximum(1, np.ceil(change * 0.3 * grid / (grid[1] - grid[0]))).astype(int)
+        total, back = score[:, 0].copy(), np.zeros((n, m), dtype=int)
+        for j in range(1, m):
+            lows, highs = (
+                np.maximum(np.arange(n) - reach, 0),
+                np.minimum(np.arange(n) + reach, n - 1),
+            )
+            back[:, j] = [
+                a + int(np.argmax(total[a : b + 1])) for a, b in zip(lows, highs, strict=True)
+            ]
+            total = total[back[:, j]] + score[:, j]
+        path = np.empty(m, dtype=int)
+        path[-1] = int(np.argmax(total))
+        for j in range(m - 1, 0, -1):
+            path[j - 1] = back[path[j], j]
+        np.testing.assert_array_equal(_best_path(score, grid, times, change), path)
+    # A lone loud cell at half the rate, one frame long, is out of reach (it was within the
+    # old reach, which was max_change of f_max: 8.5 Hz a frame here).
+    grid, times = np.linspace(5.0, 50.0, 451), np.arange(5) * 0.34
+    score = np.zeros((grid.size, times.size))
+    score[np.searchsorted(grid, 11.0), :] = 1.0
+    score[np.searchsorted(grid, 5.5), 2] = 3.0
+    assert np.all(grid[_best_path(score, grid, times, 0.5)] == pytest.approx(11.0, abs=0.1))
+
+
 def test_estimate_speed_validates_its_range():
     x = np.random.default_rng(0).standard_normal(int(FS))
     with pytest.raises(ValueError, match="f_min .* must be below f_max"):
