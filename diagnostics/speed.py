@@ -206,8 +206,8 @@ class SpeedEstimate:
 # A frame counts toward the confidence when its ridge stands this many robust standard
 # deviations above the frame's other candidate rates.
 _SALIENCE = 4.0
-# Frame lengths tried: 4 periods of f_min, then doubled up to this many times.
-_FRAME_DOUBLINGS = 3
+# Frame lengths tried: 2 periods of f_min, then doubled up to this many times.
+_FRAME_DOUBLINGS = 4
 # Frames needed to tell lines that move from lines that stay.
 _MIN_FRAMES_MOVING = 8
 
@@ -233,7 +233,7 @@ def estimate_speed(
     empty places between, twice it only every other one). The ridge is the path through the
     frames that maximises that sum while the rate changes by at most ``max_change`` of
     itself per second (dynamic programming); each frame's rate is the centroid of its peak
-    above half height, which a changing speed flattens. Frames of 4, 8, 16 and 32 periods of
+    above half height, which a changing speed flattens. Frames of 2, 4, 8, 16 and 32 periods of
     ``f_min`` are tried and the one whose ridge stands highest over the other candidates is
     kept: measured spectra hold lines a few hertz apart (CWRU's, at shaft harmonics and a
     cage rate above them) that only long frames resolve, while a fast speed change wants
@@ -267,7 +267,7 @@ def estimate_speed(
     n_harmonics : int
         Shaft harmonics summed per candidate.
     nperseg : int, optional
-        Spectrogram frame in samples. Default: the best of 4, 8, 16 and 32 periods of
+        Spectrogram frame in samples. Default: the best of 2, 4, 8, 16 and 32 periods of
         ``f_min`` (rounded up to powers of two) that leave two frames in the record.
     max_change : float
         Largest relative change of the rate per second along the ridge.
@@ -307,8 +307,8 @@ def estimate_speed(
             f"n_harmonics * f_max = {n_harmonics * f_max:g} Hz must be below fs/2 = {fs / 2:g} Hz"
         )
     max_change = check_positive(max_change, "max_change")
-    # Four periods of f_min, the shortest frame tried: a resolution of f_min / 4.
-    shortest = int(2 ** math.ceil(math.log2(4.0 * fs / f_min)))
+    # Two periods of f_min, the shortest frame tried: a resolution of f_min / 2.
+    shortest = int(2 ** math.ceil(math.log2(2.0 * fs / f_min)))
     if nperseg is None:
         frames = [shortest * 2**j for j in range(_FRAME_DOUBLINGS + 1)]
         frames = [n for n in frames if x.size >= 2 * n] or [shortest]
