@@ -99,13 +99,20 @@ def shaft_angle(shaft_hz, fs: float) -> np.ndarray:
 
 
 # ------------------------------------------------------------------------------ tachometer
+# Half-width of the trigger's hysteresis band, as a fraction of the signal's 1-99 % range.
+_TACHO_HYSTERESIS = 0.2
+
+
 def speed_from_tacho(
     tacho, fs: float, pulses_per_rev: int = 1, threshold: float | None = None
 ) -> np.ndarray:
     """Shaft rate at every sample from a tachometer pulse train.
 
-    Each pulse's rising edge through ``threshold`` is located to a fraction of a sample (linear
-    interpolation between the samples either side); edge ``k`` is at shaft angle
+    A pulse starts where the signal rises above ``threshold`` plus a hysteresis band (a fifth
+    of the signal's 1-99 % range) after it was last below ``threshold`` less that band, so
+    noise near the threshold cannot make pulses of its own (a Schmitt trigger); its edge is
+    the threshold crossing that starts the rise, located to a fraction of a sample (linear
+    interpolation between the samples either side). Edge ``k`` is at shaft angle
     ``k / pulses_per_rev`` revolutions. A monotone cubic (PCHIP) through these angles is
     differentiated at every sample; before the first and after the last edge the rate is
     held at its value there.
@@ -119,7 +126,7 @@ def speed_from_tacho(
     pulses_per_rev : int
         Pulses per shaft revolution.
     threshold : float, optional
-        Level of the rising edges; default halfway between the 5th and 95th percentiles.
+        Level of the rising edges; default halfway between the 1st and 99th percentiles.
 
     Returns
     -------
@@ -130,7 +137,8 @@ def speed_from_tacho(
     ------
     ValueError
         On an invalid signal, rate or pulse count, a constant signal, a threshold that no
-        edge crosses, or fewer than three edges.
+        edge crosses, fewer than three edges, or an interval between pulses far from those
+        around it (a pulse missing or doubled).
 
     Examples
     --------
@@ -144,11 +152,11 @@ def speed_from_tacho(
     x = check_varying(check_signal(tacho, fs, name="tacho"), "tacho")
     fs = float(fs)
     ppr = check_positive_int(pulses_per_rev, "pulses_per_rev")
+    low, high = np.percentile(x, [1.0, 99.0])
+    if high <= low:  # pulses narrower than 1 % of the record
+        low, high = float(x.min()), float(x.max())
     if threshold is None:
-        lo, hi = np.percentile(x, [5.0, 95.0])
-        if hi <= lo:
-            lo, hi = float(x.min()), float(x.max())
-        threshold = 0.5 * (lo + hi)
+        threshold = 0.5 * (low + high)
     else:
         threshold = float(threshold)
         if not (x.min() < threshold < x.max()):
@@ -156,16 +164,42 @@ def speed_from_tacho(
                 f"threshold {threshold:g} is outside the tacho signal's range "
                 f"({x.min():g} .. {x.max():g})"
             )
-    above = x >= threshold
-    edges = np.flatnonzero(~above[:-1] & above[1:])
+    # Hysteresis (a Schmitt trigger): a pulse starts where the signal rises above the upper
+    # level after it was last below the lower one, so noise near the threshold cannot make
+    # a pulse of its own.
+    # (narrower where a threshold given lies near either end of the range).
+    band = max(0.0, min(_TACHO_HYSTERESIS * (high - low), 0.5 * (high - threshold),
+                        0.5 * (threshold - low)))  # fmt: skip
+    state = np.full(x.size, -1)
+    state[x <= threshold - band] = 0
+    state[x >= threshold + band] = 1
+    known = np.maximum.accumulate(np.where(state >= 0, np.arange(x.size), 0))
+    held = np.where(state[known] >= 0, state[known], 0)
+    rises = np.flatnonzero((held[:-1] == 0) & (held[1:] == 1)) + 1
+    # Each edge at the threshold crossing that starts the rise, to a fraction of a sample
+    # (linear interpolation across it).
+    last_below = np.maximum.accumulate(np.where(x < threshold, np.arange(x.size), -1))
+    edges = last_below[rises]
+    edges = edges[(edges >= 0) & (edges < x.size - 1)]
     if edges.size < 3:
         raise ValueError(
             f"tacho holds {edges.size} rising edge(s) through {threshold:g}; need at least 3 "
             "(check the channel, threshold and pulses_per_rev)"
         )
-    # Sub-sample edge times by linear interpolation across the crossing.
     a, b = x[edges], x[edges + 1]
     times = (edges + (threshold - a) / (b - a)) / fs
+    # A pulse missing or doubled shows as one interval far from its neighbours' (a real
+    # speed change between two pulses is a few percent).
+    intervals = np.diff(times)
+    if intervals.size >= 3:
+        typical = ndimage.median_filter(intervals, size=5, mode="nearest")
+        odd = np.flatnonzero((intervals < 0.6 * typical) | (intervals > 1.6 * typical))
+        if odd.size:
+            raise ValueError(
+                f"tacho pulse interval at {times[odd[0]]:.4g} s is {intervals[odd[0]] * 1e3:.4g} "
+                f"ms against {typical[odd[0]] * 1e3:.4g} ms around it: a pulse missing or "
+                "doubled (check the channel, threshold and pulses_per_rev)"
+            )
     angle = np.arange(edges.size) / ppr
     t = np.arange(x.size) / fs
     curve = interpolate.PchipInterpolator(times, angle, extrapolate=False)
