@@ -198,7 +198,8 @@ def speed_from_tacho(
             raise ValueError(
                 f"tacho pulse interval at {times[odd[0]]:.4g} s is {intervals[odd[0]] * 1e3:.4g} "
                 f"ms against {typical[odd[0]] * 1e3:.4g} ms around it: a pulse missing or "
-                "doubled (check the channel, threshold and pulses_per_rev)"
+                "doubled, or the speed changing by over 40 % within a few pulses (check the "
+                "channel, threshold and pulses_per_rev)"
             )
     angle = np.arange(edges.size) / ppr
     t = np.arange(x.size) / fs
