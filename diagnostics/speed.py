@@ -166,8 +166,7 @@ def speed_from_tacho(
             )
     # Hysteresis (a Schmitt trigger): a pulse starts where the signal rises above the upper
     # level after it was last below the lower one, so noise near the threshold cannot make
-    # a pulse of its own.
-    # (narrower where a threshold given lies near either end of the range).
+    # a pulse of its own. The band narrows where a given threshold lies near either end.
     band = max(0.0, min(_TACHO_HYSTERESIS * (high - low), 0.5 * (high - threshold),
                         0.5 * (threshold - low)))  # fmt: skip
     state = np.full(x.size, -1)
