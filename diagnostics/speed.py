@@ -267,11 +267,11 @@ def estimate_speed(
     empty places between, twice it only every other one). The ridge is the path through the
     frames that maximises that sum while the rate changes by at most ``max_change`` of
     itself per second (dynamic programming); each frame's rate is the centroid of its peak
-    above half height, which a changing speed flattens. Frames of 2, 4, 8, 16 and 32 periods of
-    ``f_min`` are tried and the one whose ridge stands highest over the other candidates is
-    kept: measured spectra hold lines a few hertz apart (CWRU's, at shaft harmonics and a
-    cage rate above them) that only long frames resolve, while a fast speed change wants
-    short ones. Lines that keep their frequency through the record (the mains and its
+    above half height, which a changing speed flattens. Frames of 2, 4, 8, 16 and 32
+    periods of ``f_min`` are tried and the one whose ridge stands highest over the other
+    candidates is kept: measured spectra hold lines a few hertz apart (CWRU's, at shaft
+    harmonics and a cage rate above them) that only long frames resolve, while a fast speed
+    change wants short ones. Lines that keep their frequency through the record (the mains and its
     harmonics, a fixed tone) form series of their own that can outweigh weak shaft
     harmonics; each frame length is therefore also searched with every bin's median over
     the frames taken out, and a ridge found clearly there (half the frames salient; at least
@@ -284,10 +284,10 @@ def estimate_speed(
     sought within 20-35 Hz, the rate is found within 0.2 % of the CWRU files' RPM and 1 % of
     MFPT's nominal 25 Hz in 25 of them; the other six get a confidence of 0 (five of MFPT's
     inner-race records, one record too short). A fast change on such a line-rich spectrum is
-    not followed: CWRU records replayed with the shaft slowing from full to half speed in 13
-    s read at half the rate or below, since frames short enough to follow the change cannot tell the
-    lines a cage rate from the shaft harmonics from those half-way between; the confidence
-    stays low there (0.00-0.11).
+    not followed: CWRU records replayed with the shaft slowing from full to half speed in
+    13 s read at half the rate or below, since frames short enough to follow the change
+    cannot tell the lines a cage rate from the shaft harmonics from those half-way between;
+    the confidence stays low there (0.00-0.11).
 
     Parameters
     ----------
