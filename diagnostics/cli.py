@@ -413,6 +413,8 @@ def run_analyze(args: argparse.Namespace) -> int:
         "scores": d.scores,
         "alpha": d.alpha,
         "families": _family_summary(d),
+        "dominated": list(d.dominated),
+        "other_series": dict(zip(("fundamental", "strength"), d.other_series, strict=True)),
         "notch_hz": list(args.notch),
         "figures": figures,
     }
@@ -445,6 +447,13 @@ def _print_summary(sig, rpm: float, d: Diagnosis, out: Path, n_files: int) -> No
         f"verdict: {verdict} (confidence {d.confidence:.2f}; "
         f"band {d.band[0]:.4g}-{d.band[1]:.4g} {unit})",
         "scores: " + "  ".join(f"{k} {v:.0f}" for k, v in d.scores.items()),
+    ]
+    for family in d.dominated:
+        lines.append(
+            f"not named: {family} (a series at {d.other_series[0]:.4g} {unit}, no fault "
+            "frequency of this bearing, is over four times as strong: another component?)"
+        )
+    lines += [
         f"wrote {n_files} files to {out}",
     ]
     print("\n".join(lines))

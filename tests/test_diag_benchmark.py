@@ -246,14 +246,15 @@ def test_development_cwru_counts_do_not_fall_back(development_results):
 
 
 def test_development_other_bearing_false_alarms_do_not_grow():
-    """The healthy bearing's channel of every development CWRU record: measured when the
-    check was added (README), 3 of 17 named a fault, each where that channel carries a
-    strong drive-end fault (a copy of its channel, or 135's); the baseline and the 12 kHz
-    records stay none."""
+    """The healthy bearing's channel of every development CWRU record: when the check was
+    added (README), 3 of 17 named a fault, each where that channel carries a strong
+    drive-end fault (a copy of its channel, or 135's). A family far weaker than a series at
+    no fault frequency of the bearing is not named: 135 and 213 are none, 238 (ball, at a
+    third of that series) is left; the baseline and the 12 kHz records stay none."""
     if not DATA.is_dir():
         pytest.skip(f"development data not available at {DATA}")
     results = run_benchmark(find_records(DATA), other_bearing=True)
     assert len(results) == 17 and all(r.expected == "none" for r in results)
     alarms = [r for r in results if r.verdict != "none"]
-    assert len(alarms) <= 3, [(r.path.name, r.verdict) for r in alarms]
+    assert len(alarms) <= 1, [(r.path.name, r.verdict) for r in alarms]
     assert all(r.verdict == "none" for r in results if "12k" in r.group or "normal" in r.path.name)

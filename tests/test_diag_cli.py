@@ -73,6 +73,21 @@ def test_cli_verdicts(cwru_dir, tmp_path, capsys, name, fs, verdict):
     assert "verdict:" in capsys.readouterr().out
 
 
+def test_cli_names_the_stronger_series_of_another_component(cwru_dir, tmp_path, capsys):
+    """Record 135's fan-end channel with the fan-end bearing: healthy, and the drive-end
+    ball-pass series (3.585 orders, 107.4 Hz at 1796 rpm) is reported as what dominated."""
+    out = tmp_path / "fe"
+    code = main(["analyze", str(cwru_dir / "48k_Drive_End_OR007@6_0_135.mat"), "--fs", "48000",
+                 "--channel", "X135_FE_time", "--bearing", "n=8,d=0.2656in,D=1.122in",
+                 "--out", str(out)])  # fmt: skip
+    assert code == 0
+    summary = json.loads((out / "summary.json").read_text())
+    assert summary["verdict"] == "none"
+    assert summary["dominated"] == ["ball"]
+    assert summary["other_series"]["fundamental"] == pytest.approx(3.5848 * 1796 / 60, rel=0.01)
+    assert "not named: ball (a series at 107" in capsys.readouterr().out
+
+
 def test_cli_notch_and_rpm_override(tmp_path, capsys):
     # A CSV without speed: --rpm is required and used; --notch is recorded.
     fs = 12000.0

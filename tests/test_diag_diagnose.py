@@ -300,3 +300,38 @@ def test_even_pair_counts_where_an_odd_harmonic_is_masked():
     assert _best_pair(p, seen) == (1e-9, 0.5)
     seen[2] = False
     assert _best_pair(p, seen) == (1e-9, 1e-8)
+
+
+# --- another source's series --------------------------------------------------------------
+
+
+@pytest.mark.parametrize("seed", [1, 2])
+def test_family_far_weaker_than_another_series_is_not_named(seed):
+    """A second impact series at 6.3 shaft orders (no fault frequency of this bearing):
+    as strong as the outer-race impacts, the fault is still named and the other series
+    reported; four times stronger (sixteen times the power), the outer-race comb's pair is
+    still significant but the family is listed as dominated, not named."""
+    fs = 12000.0
+    fault = fault_signal(fs, FREQS.bpfo, 3000.0, amplitude=3.0, seed=seed)
+    for amplitude, verdict in ((3.0, "outer"), (12.0, "none")):
+        other = fault_signal(fs, 6.3 * SHAFT_HZ, 4500.0, amplitude=amplitude, seed=seed + 100)
+        d = diagnose(fault + other, fs, GEOMETRY, SHAFT_HZ)
+        assert d.fault == verdict
+        assert d.families["outer"].detected
+        assert d.dominated == (() if verdict == "outer" else ("outer",))
+        assert d.other_series[0] == pytest.approx(6.3 * SHAFT_HZ, rel=0.005)
+
+
+def test_cwru_fan_end_channel_beside_a_damaged_drive_end(cwru_dir):
+    """Record 135's fan-end accelerometer, read with the fan-end bearing (healthy): the
+    drive-end outer-race series (BPFO 3.585 orders) and its shaft sidebands put lines in
+    the fan-end ball comb's windows, whose pair test passes; the series itself is found at
+    a rate of no fan-end fault, far stronger, and the record is called healthy."""
+    from diagnostics.datasets import CWRU_FAN_END, read_labelled_record
+
+    rec = read_labelled_record(cwru_dir / CWRU["135"][0], end="fan")
+    d = diagnose(rec.x, rec.fs, CWRU_FAN_END, rec.shaft_hz)
+    assert d.fault == "none"
+    assert d.dominated == ("ball",)
+    de_bpfo = bearing_frequencies(GEOMETRY, rec.shaft_hz).bpfo
+    assert d.other_series[0] == pytest.approx(de_bpfo, rel=0.01)
