@@ -305,6 +305,24 @@ def test_even_pair_counts_where_an_odd_harmonic_is_masked():
 # --- another source's series --------------------------------------------------------------
 
 
+@pytest.mark.parametrize("fs", [12000.0, 48000.0])
+@pytest.mark.parametrize("family, rate", [("inner", FREQS.bpfi), ("outer", FREQS.bpfo)])
+def test_impacts_at_half_a_fault_frequency_are_no_fault(fs, family, rate):
+    """A healthy bearing and a train of impacts at half a fault frequency (0.3 % off): the
+    fault comb sees every one of its harmonics (the train's even ones) and its pair passes,
+    but the lines between them (the train's odd harmonics) are as strong, so the period is
+    twice the fault's: no fault of this bearing. The same impacts at the fault frequency are
+    named."""
+    x = fault_signal(fs, 0.5 * 1.003 * rate, 4500.0, seed=101)
+    d = diagnose(x, fs, GEOMETRY, SHAFT_HZ)
+    assert d.fault == "none"
+    assert any(s is not None and s.slower_period == 2 for b in d.bands for s in b.families.values())
+    assert (
+        diagnose(fault_signal(fs, 1.003 * rate, 4500.0, seed=101), fs, GEOMETRY, SHAFT_HZ).fault
+        == family
+    )
+
+
 @pytest.mark.parametrize("seed", [1, 2])
 def test_family_far_weaker_than_another_series_is_not_named(seed):
     """A second impact series at 6.3 shaft orders (no fault frequency of this bearing):
