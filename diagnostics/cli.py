@@ -143,7 +143,8 @@ def add_analyze_arguments(parser: argparse.ArgumentParser) -> None:
 
 def _markers(d: Diagnosis) -> dict[str, float]:
     """Comb fundamentals to mark: where a family was detected, the frequency found (slip
-    included) with the comb it was found by, else the kinematic one."""
+    included) with the comb it was found by, else the kinematic one; and the other source's
+    series where it set a detected family aside."""
     labels = {"outer": "BPFO", "inner": "BPFI", "ball": "2xBSF"}
     out = {}
     for family, label in labels.items():
@@ -151,9 +152,12 @@ def _markers(d: Diagnosis) -> dict[str, float]:
         if s is None:
             continue
         if s.detected:
-            out[f"{s.comb or label} (found)"] = s.found_hz
+            found = "set aside" if family in d.dominated else "found"
+            out[f"{s.comb or label} ({found})"] = s.found_hz
         else:
             out[label] = s.expected_hz if s.comb in ("", label) else _kinematic(d, family)
+    if d.dominated:  # the series that set a detected family aside
+        out["other series"] = d.other_series[0]
     return out
 
 

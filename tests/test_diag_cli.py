@@ -86,6 +86,14 @@ def test_cli_names_the_stronger_series_of_another_component(cwru_dir, tmp_path, 
     assert summary["dominated"] == ["ball"]
     assert summary["other_series"]["fundamental"] == pytest.approx(3.5848 * 1796 / 60, rel=0.01)
     assert "not named: ball (a series at 107" in capsys.readouterr().out
+    from diagnostics.cli import _markers
+    from diagnostics.datasets import CWRU_FAN_END, read_labelled_record
+    from diagnostics.diagnose import diagnose
+
+    rec = read_labelled_record(cwru_dir / "48k_Drive_End_OR007@6_0_135.mat", end="fan")
+    marks = _markers(diagnose(rec.x, rec.fs, CWRU_FAN_END, rec.shaft_hz))
+    assert marks["other series"] == pytest.approx(summary["other_series"]["fundamental"])
+    assert "2xBSF (set aside)" in marks and "2xBSF (found)" not in marks
 
 
 def test_cli_notch_and_rpm_override(tmp_path, capsys):
@@ -154,5 +162,6 @@ def test_markers_name_the_comb_that_found_the_fault():
     freqs = bearing_frequencies(geometry, 29.95)
     d = diagnose(gated_ball_impacts(12000.0, 5.0, jitter=0.08, seed=3), 12000.0, geometry, 29.95)
     marks = _markers(d)
+    assert "other series" not in marks  # nothing was set aside
     assert marks["FTF (found)"] == pytest.approx(freqs.ftf, rel=0.02)
     assert marks["BPFO"] == pytest.approx(freqs.bpfo) and marks["BPFI"] == pytest.approx(freqs.bpfi)
