@@ -41,9 +41,10 @@ Method (Randall and Antoni 2011; Smith and Randall 2015, the CWRU benchmark):
    a significant pair of their own and a series at least a quarter as strong as the
    comb's, the period is the slower one, no fault of this bearing, and the race or spin
    family is not detected (``FamilyScore.slower_period``; a real outer-race fault, CWRU
-   135, shows such lines at 0.015 of its BPFO series). The cage-rate comb is left out:
-   lines at half the cage rate show in measured records of all three faults (CWRU 189,
-   250, 262). ``alpha_pair`` is
+   135, shows such lines at 0.02-0.05 of its BPFO series). Half of 2 BSF is not tested (it
+   is BSF, where a damaged ball strikes one race harder than the other), nor the cage-rate
+   comb (lines at half the cage rate show in measured records of all three faults, CWRU
+   189, 250, 262). ``alpha_pair`` is
    ``alpha`` divided by the number of harmonic pairs, families and candidate bands (union
    bound), so that a fault-free record is called faulty with probability at most ``alpha``
    (1e-4 by default): the healthy threshold comes from that false-alarm probability, not
@@ -137,6 +138,11 @@ _FOREIGN_SHARE = 0.25
 # its frequency (measured lines stand up to 0.07 % off the places a fitted fundamental
 # predicts: the speed drifts over the record).
 _LINE_SPREAD = 1e-3
+# Slower periods tested per comb (_slower_period). Half of 2 x BSF is the ball spin rate
+# itself, where a damaged ball strikes one race harder than the other: ball evidence. The
+# cage-rate comb is not tested: lines at half the cage rate show in measured records of
+# every fault (CWRU 189, 250, 262), for reasons this analysis does not model.
+_SLOWER = {"BPFO": (2, 3), "BPFI": (2, 3), "2xBSF": (3,), "FTF": ()}
 # A series' strength: the sum of its strongest harmonics, this many of those tested.
 _STRENGTH_TOP = 3
 
@@ -197,7 +203,8 @@ class FamilyScore:
         2 or 3 where the lines between the comb's harmonics, at multiples of ``found_hz``
         / 2 or / 3, are themselves a significant series: the impacts repeat at that slower
         rate, which is no fault frequency of the bearing, and the comb's lines are that
-        series' harmonics, so the family is not detected. 0 otherwise.
+        series' harmonics, so the family is not detected. 0 otherwise (and always for the
+        cage-rate comb; the 2 x BSF comb is tested for 3 only, half of it being BSF).
     """
 
     family: str
@@ -505,10 +512,12 @@ def _slower_period(
     n_harm: int,
     alpha_pair: float,
     min_modulation: float,
+    periods: tuple[int, ...] = (2, 3),
 ) -> int:
-    """2 or 3 where the lines at ``j * fc / q`` (``j`` not a multiple of ``q``, below the
-    comb's top harmonic) hold a significant pair, as a comb's pair is judged, and a series
-    at least a quarter as strong as the comb's own (``z_comb``); else 0.
+    """The ``q`` of ``periods`` (2, 3) where the lines at ``j * fc / q`` (``j`` not a
+    multiple of ``q``, below the comb's top harmonic) hold a significant pair, as a comb's
+    pair is judged, and a series at least a quarter as strong as the comb's own
+    (``z_comb``); else 0.
 
     Their places are fixed by the comb, so each line's p-value is over a window of four bins
     (the line between two bins, and a bin of spread either side). A train of impacts at
@@ -517,7 +526,7 @@ def _slower_period(
     fault at ``fc`` only weak ones (0.12 at most on the 25 development records named by a
     race or spin comb, 262; 0.02-0.05 in 135, whose lines at odd multiples of BPFO / 2
     form a significant pair)."""
-    for q in (2, 3):
+    for q in periods:
         j = np.array([i for i in range(1, q * n_harm) if i % q])
         freqs = j * fc / q
         z = _line_values(z_masked, df, freqs)
@@ -547,7 +556,7 @@ def _score_family(
     min_modulation: float,
     band: tuple[float, float],
     sideband_hz: float,
-    check_slower: bool = True,
+    slower: tuple[int, ...] = (2, 3),
 ) -> FamilyScore:
     df = f[1] - f[0]
     k = np.arange(1, n_harm + 1)
@@ -574,9 +583,7 @@ def _score_family(
     depth = np.hypot(m[lo], m[lo + 1])
     strongest = float(depth[support].max()) if support.any() else 0.0
     detected = bool(pair_p <= alpha_pair and p2 <= _SUPPORT_P and strongest >= min_modulation)
-    slower = 0
-    if check_slower:
-        slower = _slower_period(z_masked, m, df, fc, zk, n_harm, alpha_pair, min_modulation)
+    slower = _slower_period(z_masked, m, df, fc, zk, n_harm, alpha_pair, min_modulation, slower)
     detected = detected and slower == 0
     closeness = min(
         math.log(max(pair_p, 1e-300)) / math.log(alpha_pair),
@@ -694,15 +701,15 @@ def _foreign_series(
     Fundamentals from 0.9 times a third of the slowest fault frequency (BPFO, BPFI or
     2 BSF) to 1.3 times the fastest are scored like a fault comb (:func:`series_strength`
     of ``n_harmonics`` harmonics, those up to 0.8 of a narrow band's width, at least two)
-    on the spectrum less the lines
-    of the fault combs scored in the band (``combs``), except those within twice the slip
-    tolerance of a fault frequency, its double or triple, or the cage rate (FTF) times 1,
-    2 or 3. Without the combs' lines, a series at half or a third of a fault frequency is
-    scored by the lines between the fault's harmonics alone: strong where impacts repeat
-    at that slower rate (no fault of this bearing), empty for the fault itself. (A series
-    at a fault frequency plus or minus the shaft rate is not excluded: on the development
-    records the sidebands of an inner-race fault form such a series at no more than half
-    the fault's own strength.)
+    on the spectrum less the lines of the fault combs scored in the band (``combs``),
+    except those within twice the slip tolerance of a fault frequency, its double or
+    triple, the ball spin rate (BSF), or the cage rate (FTF) times 1, 2 or 3. Without the
+    combs' lines, a series at half or a third of a fault frequency is scored by the lines
+    between the fault's harmonics alone: strong where impacts repeat at that slower rate
+    (no fault of this bearing), empty for the fault itself. (A series at a fault frequency
+    plus or minus the shaft rate is not excluded: on the development records the sidebands
+    of an inner-race fault form such a series at no more than half the fault's own
+    strength.)
 
     Returns
     -------
@@ -728,8 +735,8 @@ def _foreign_series(
     values = np.where(lines <= top, _line_values(z_other, df, lines), 0.0)
     strength = np.sort(values, axis=1)[:, -_STRENGTH_TOP:].sum(axis=1)
     # A series at a fault frequency's double or triple is made of its harmonics; the
-    # cage rate's first multiples likewise.
-    own = [freqs.ftf * m for m in (1, 2, 3)]
+    # cage rate's first multiples likewise; the ball spin rate is a ball fault's own.
+    own = [freqs.ftf * m for m in (1, 2, 3)] + [freqs.bsf]
     own += [f0 * m for f0 in (freqs.bpfo, freqs.bpfi, 2.0 * freqs.bsf) for m in (1, 2, 3)]
     explained = np.zeros(grid.size, dtype=bool)
     for c in own:
@@ -1070,9 +1077,7 @@ def _diagnose_steady(
                 min_modulation,
                 band,
                 sb_hz,
-                # Lines at half the cage rate show in measured records of every fault
-                # (CWRU 189, 250, 262), for reasons this analysis does not model.
-                check_slower=comb != "FTF",
+                _SLOWER.get(comb, (2, 3)),
             )
             scores[comb] = replace(score, comb=comb)
         foreign = _foreign_series(

@@ -306,6 +306,16 @@ def test_even_pair_counts_where_an_odd_harmonic_is_masked():
 
 
 @pytest.mark.parametrize("fs", [12000.0, 48000.0])
+def test_impacts_at_the_ball_spin_rate_are_a_ball_fault(fs):
+    """Half of 2 x BSF is the ball spin rate: a damaged ball striking one race harder than
+    the other. Its lines between the 2 x BSF comb's harmonics are ball evidence, not a
+    slower period."""
+    for seed in (101, 102, 103):
+        d = diagnose(fault_signal(fs, 1.003 * FREQS.bsf, 4500.0, seed=seed), fs, GEOMETRY, SHAFT_HZ)
+        assert d.fault == "ball" and d.families["ball"].slower_period == 0
+
+
+@pytest.mark.parametrize("fs", [12000.0, 48000.0])
 @pytest.mark.parametrize("family, rate", [("inner", FREQS.bpfi), ("outer", FREQS.bpfo)])
 def test_impacts_at_half_a_fault_frequency_are_no_fault(fs, family, rate):
     """A healthy bearing and a train of impacts at half a fault frequency (0.3 % off): the
