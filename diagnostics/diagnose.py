@@ -95,7 +95,13 @@ import numpy as np
 from scipy import fft as sp_fft
 from scipy import ndimage, signal
 
-from diagnostics._checks import check_positive, check_positive_int, check_signal, check_varying
+from diagnostics._checks import (
+    check_positive,
+    check_positive_int,
+    check_signal,
+    check_signals,
+    check_varying,
+)
 from diagnostics.envelope import envelope
 from diagnostics.frequencies import BearingGeometry, FaultFrequencies, bearing_frequencies
 from diagnostics.kurtosis import kurtogram
@@ -387,7 +393,7 @@ def _fast_length(n: int) -> int:
     return m
 
 
-def prewhiten(x, fs: float, taper_s: float = _TAPER_S) -> np.ndarray:
+def prewhiten(x, fs: float, taper_s: float = _TAPER_S, axis: int = -1) -> np.ndarray:
     """Cepstral prewhitening: the signal with its spectrum set to unit modulus.
 
     Equivalent to removing the real cepstrum except at quefrency zero (Sawalhi and Randall):
@@ -398,30 +404,53 @@ def prewhiten(x, fs: float, taper_s: float = _TAPER_S) -> np.ndarray:
     Parameters
     ----------
     x : array_like
-        1-D signal.
+        Signal, samples along ``axis`` (each channel prewhitened on its own).
     fs : float
         Sampling rate in Hz.
     taper_s : float
         Taper length at each end, in seconds (at most 5 % of the record).
+    axis : int
+        Axis of ``x`` along which the samples run.
 
     Returns
     -------
     numpy.ndarray
-        Prewhitened signal, shorter than ``x`` by the two tapers.
+        Prewhitened signal of unit variance (each channel), shorter than ``x`` along
+        ``axis`` by the two tapers and a few samples that keep every later FFT fast.
+
+    Raises
+    ------
+    ValueError
+        On an invalid or constant signal, ``fs`` or axis.
+
+    Examples
+    --------
+    A tone and its harmonic over noise: prewhitened, every frequency has the same level.
+
+    >>> fs, rng = 8000.0, np.random.default_rng(0)
+    >>> t = np.arange(16000) / fs
+    >>> x = 50 * np.sin(2 * np.pi * 200 * t) + 20 * np.sin(2 * np.pi * 400 * t)
+    >>> white = prewhiten(x + rng.standard_normal(t.size), fs)
+    >>> spec = np.abs(np.fft.rfft(white))
+    >>> bool(spec.max() < 3 * np.median(spec))
+    True
     """
-    x = check_varying(check_signal(x, fs, min_length=16))
-    m = int(min(round(taper_s * fs), 0.05 * x.size))
+    x = check_varying(check_signals(x, fs, axis=axis, min_length=16))
+    size = x.shape[-1]
+    m = int(min(round(taper_s * fs), 0.05 * size))
     # Drop a few samples so that this and every later FFT has a fast (5-smooth) length.
-    n = _fast_length(x.size - 2 * m) + 2 * m
-    x = x[:n]
+    n = _fast_length(size - 2 * m) + 2 * m
+    x = x[..., :n]
     window = signal.windows.tukey(n, 2.0 * m / n) if m > 0 else np.ones(n)
-    spec = np.fft.rfft((x - x.mean()) * window)
+    spec = np.fft.rfft((x - x.mean(axis=-1, keepdims=True)) * window, axis=-1)
     mag = np.abs(spec)
-    floor = 1e-12 * mag.max() if mag.max() > 0 else 1.0
-    white = np.fft.irfft(spec / np.maximum(mag, floor), n)
-    white = white[m : n - m] if m > 0 else white
+    peak = mag.max(axis=-1, keepdims=True)
+    floor = np.where(peak > 0, 1e-12 * peak, 1.0)
+    white = np.fft.irfft(spec / np.maximum(mag, floor), n, axis=-1)
+    white = white[..., m : n - m] if m > 0 else white
     # Unit variance: the kurtogram compares band powers with machine epsilon.
-    return white / white.std()
+    white = white / white.std(axis=-1, keepdims=True)
+    return white if white.ndim == 1 else np.moveaxis(white, -1, axis)
 
 
 def normalised_envelope_spectrum(

@@ -28,6 +28,7 @@ CALLS = {
     "third_octave": lambda x, axis: dg.third_octave(x, FS, f_min=50.0, axis=axis)[1],
     "spectral_kurtosis": lambda x, axis: dg.spectral_kurtosis(x, FS, nw=128, axis=axis)[1],
     "order_track": lambda x, axis: dg.order_track(x, FS, 20.0, 256, axis=axis).x,
+    "prewhiten": lambda x, axis: dg.prewhiten(x, FS, axis=axis),
 }
 
 
