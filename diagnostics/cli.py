@@ -454,8 +454,9 @@ def _print_summary(sig, rpm: float, d: Diagnosis, out: Path, n_files: int) -> No
     ]
     for family in d.dominated:
         lines.append(
-            f"not named: {family} (a series at {d.other_series[0]:.4g} {unit}, no fault "
-            "frequency of this bearing, is over four times as strong: another component?)"
+            f"not named: {family} (its lines belong to a stronger series at "
+            f"{d.other_series[0]:.4g} {unit}, no fault frequency of this bearing: another "
+            "component?)"
         )
     lines += [
         f"wrote {n_files} files to {out}",
