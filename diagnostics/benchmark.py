@@ -42,7 +42,8 @@ class BenchmarkResult:
     confidence : float
         Confidence of the verdict (0 on an error).
     detail : str
-        Fault size and position, or the error message.
+        Fault size and position (and the families set aside for another source's series,
+        with its rate in shaft orders), or the error message.
     """
 
     path: Path
@@ -123,6 +124,11 @@ def run_benchmark(
             if other_bearing and _copies(rec.x, read_labelled_record(path, label).x):
                 detail = f"{detail} (channel copies the {label.end} end's)".strip()
             d = diagnose_fn(rec.x, rec.fs, rec.geometry, rec.shaft_hz, **options)
+            aside = getattr(d, "dominated", ())
+            if aside:
+                orders = d.other_series[0] / rec.shaft_hz
+                note = f"set aside: {', '.join(aside)}; other series at {orders:.3f} orders"
+                detail = f"{detail} ({note})".strip()
             result = BenchmarkResult(path, group, expected, d.fault, float(d.confidence), detail)
         except ValueError as exc:
             result = BenchmarkResult(path, group, expected, "error", 0.0, str(exc))

@@ -259,3 +259,18 @@ def test_development_other_bearing_false_alarms_do_not_grow():
     alarms = [r for r in results if r.verdict != "none"]
     assert len(alarms) <= 1, [(r.path.name, r.verdict) for r in alarms]
     assert all(r.verdict == "none" for r in results if "12k" in r.group or "normal" in r.path.name)
+
+
+def test_detail_names_the_families_set_aside(synthetic_set):
+    """Where diagnose set a family aside for another source's series, the record's detail
+    says which and gives that series' rate in shaft orders."""
+    from types import SimpleNamespace
+
+    def stub(x, fs, geometry, shaft_hz):
+        return SimpleNamespace(
+            fault="none", confidence=0.9, dominated=("ball",), other_series=(3.5 * shaft_hz, 9.0)
+        )
+
+    results = run_benchmark(find_records(synthetic_set), diagnose_fn=stub)
+    assert results[0].detail == "0.007 in@6 (set aside: ball; other series at 3.500 orders)"
+    assert results[2].detail == "(set aside: ball; other series at 3.500 orders)"  # baseline
