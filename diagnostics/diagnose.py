@@ -243,7 +243,7 @@ class BandScore:
 
     ``families`` is keyed by comb: ``"BPFO"`` (outer race), ``"BPFI"`` (inner race),
     ``"2xBSF"`` and ``"FTF"`` (rolling elements); ``FamilyScore.family`` names the family.
-    ``foreign_hz`` and ``foreign_strength``: fundamental and strength (the sum of its three
+    ``other_hz`` and ``other_strength``: fundamental and strength (the sum of its three
     strongest of the tested harmonics' normalised values) of the strongest harmonic series
     in this band at a rate that no fault of the bearing explains (0 where none was sought).
     """
@@ -254,8 +254,8 @@ class BandScore:
     f: np.ndarray = field(repr=False)
     z: np.ndarray = field(repr=False)
     families: dict[str, FamilyScore | None] = field(repr=False)
-    foreign_hz: float = 0.0
-    foreign_strength: float = 0.0
+    other_hz: float = 0.0
+    other_strength: float = 0.0
 
 
 @dataclass(frozen=True)
@@ -691,7 +691,7 @@ def _holds_apart(
 ) -> bool:
     """Whether a family's detection holds on the lines that the band's other series (its
     harmonics and their first two shaft-rate sidebands) does not explain."""
-    g = b.foreign_hz
+    g = b.other_hz
     if g <= 0.0:
         return True
     df = s.resolution_hz
@@ -708,17 +708,13 @@ def _holds_apart(
     return _pair_tail(p1 * p2) <= alpha_pair and p2 <= _SUPPORT_P and strongest >= min_modulation
 
 
-def _other_series(b: BandScore) -> tuple[float, float]:
-    return b.foreign_hz, b.foreign_strength
-
-
 def series_strength(z: np.ndarray) -> float:
     """Strength of a harmonic series: the sum of its strongest normalised harmonic values
     (three, or as many as were tested)."""
     return float(np.sort(np.asarray(z, dtype=float))[-_STRENGTH_TOP:].sum())
 
 
-def _foreign_series(
+def _other_series_scan(
     f: np.ndarray,
     z_masked: np.ndarray,
     freqs: FaultFrequencies,
@@ -1112,7 +1108,7 @@ def _diagnose_steady(
                 _SLOWER.get(comb, (2, 3)),
             )
             scores[comb] = replace(score, comb=comb)
-        foreign = _foreign_series(
+        other = _other_series_scan(
             f,
             z_masked,
             freqs,
@@ -1122,13 +1118,13 @@ def _diagnose_steady(
             width,
             [sc for sc in scores.values() if sc is not None],
         )
-        bands.append(BandScore(name, band, kurt, f, z, scores, *foreign))
+        bands.append(BandScore(name, band, kurt, f, z, scores, *other))
 
     by_band = {b.band: b for b in bands}
 
     def share(s: FamilyScore) -> float:
         # The family's strength over that of the band's strongest other series.
-        ref = by_band[s.band].foreign_strength
+        ref = by_band[s.band].other_strength
         return series_strength(s.z) / ref if ref > 0 else math.inf
 
     def apart(s: FamilyScore) -> bool:
@@ -1182,6 +1178,8 @@ def _diagnose_steady(
         nearest = max(present, key=lambda s: (closeness[s.family], s.evidence), default=None)
         band = nearest.band if nearest is not None else bands[0].band
         confidence = 1.0 - (closeness[nearest.family] if nearest is not None else 0.0)
+    # The other series shown: in the band of the first family it set aside, else the verdict's.
+    shown = by_band[best[dominated[0]].band if dominated else band]
     return Diagnosis(
         fault=fault,
         band=band,
@@ -1193,5 +1191,5 @@ def _diagnose_steady(
         kurtogram=kg_white,
         alpha=alpha,
         dominated=dominated,
-        other_series=_other_series(by_band[best[dominated[0]].band if dominated else band]),
+        other_series=(shown.other_hz, shown.other_strength),
     )
