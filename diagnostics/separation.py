@@ -19,7 +19,7 @@ from dataclasses import dataclass, field
 import numpy as np
 from scipy import signal
 
-from diagnostics._checks import check_positive_int, check_signal
+from diagnostics._checks import check_positive_int, check_signals
 
 __all__ = ["Separation", "discrete_random_separation"]
 
@@ -31,13 +31,14 @@ class Separation:
     Attributes
     ----------
     discrete : numpy.ndarray
-        Periodic (discrete-frequency) part, same length as the record.
+        Periodic (discrete-frequency) part, same shape as the record.
     random : numpy.ndarray
         The rest: ``x - discrete``.
     f : numpy.ndarray
         Frequencies (Hz) of ``coherence``.
     coherence : numpy.ndarray
-        ``|H(f)|``: near 1 where the record repeats after the delay, near 0 where it does not.
+        ``|H(f)|``: near 1 where the record repeats after the delay, near 0 where it does not
+        (for a multi-channel record, one row per channel, frequency last).
     """
 
     discrete: np.ndarray = field(repr=False)
@@ -47,14 +48,14 @@ class Separation:
 
 
 def discrete_random_separation(
-    x, fs: float, nfft: int | None = None, delay: int | None = None
+    x, fs: float, nfft: int | None = None, delay: int | None = None, axis: int = -1
 ) -> Separation:
     """Split a record into its discrete-frequency part and its random part (DRS).
 
     Parameters
     ----------
     x : array_like
-        1-D record.
+        Record, samples along ``axis`` (each channel separated on its own).
     fs : float
         Sampling rate in Hz.
     nfft : int, optional
@@ -66,6 +67,8 @@ def discrete_random_separation(
         an impact) and at least a block, so that a block and its delayed copy share no
         sample (overlapping windows would make white noise look coherent: a Hann block and
         its copy a quarter block later correlate at 0.66). Default ``nfft``.
+    axis : int
+        Axis of ``x`` along which the samples run.
 
     Returns
     -------
@@ -75,7 +78,8 @@ def discrete_random_separation(
     Raises
     ------
     ValueError
-        On an invalid record, rate, block or delay, or a record shorter than eight blocks.
+        On an invalid record, rate, block, delay or axis, or a record shorter than eight
+        blocks.
 
     Examples
     --------
@@ -91,7 +95,13 @@ def discrete_random_separation(
     >>> bool(np.std(err) < 0.2 * np.std(tones))
     True
     """
-    x = check_signal(x, fs)
+    x = check_signals(x, fs, axis=axis)
+    if x.ndim > 1:
+        rows = [discrete_random_separation(r, fs, nfft, delay) for r in x.reshape(-1, x.shape[-1])]
+        parts = [np.stack([getattr(r, k) for r in rows]) for k in ("discrete", "random")]
+        parts = [np.moveaxis(q.reshape(x.shape), -1, axis) for q in parts]
+        coherence = np.stack([r.coherence for r in rows]).reshape(*x.shape[:-1], -1)
+        return Separation(parts[0], parts[1], rows[0].f, coherence)
     fs = float(fs)
     if nfft is None:
         nfft = int(2 ** round(np.log2(0.25 * fs)))

@@ -29,6 +29,9 @@ CALLS = {
     "spectral_kurtosis": lambda x, axis: dg.spectral_kurtosis(x, FS, nw=128, axis=axis)[1],
     "order_track": lambda x, axis: dg.order_track(x, FS, 20.0, 256, axis=axis).x,
     "prewhiten": lambda x, axis: dg.prewhiten(x, FS, axis=axis),
+    "discrete_random_separation": lambda x, axis: (
+        dg.discrete_random_separation(x, FS, nfft=256, axis=axis).random
+    ),
 }
 
 
@@ -82,3 +85,13 @@ def test_signal_data_feeds_the_axis_functions(tmp_path):
     np.testing.assert_array_equal(sig.channel(0), CHANNELS[0])
     with pytest.raises(ValueError, match="no channel 'tacho'; available: de, fe, ba"):
         sig.channel("tacho")
+
+
+def test_separation_keeps_one_coherence_per_channel():
+    parts = dg.discrete_random_separation(CHANNELS, FS, nfft=256)
+    assert parts.discrete.shape == CHANNELS.shape and parts.coherence.shape == (3, 129)
+    one = dg.discrete_random_separation(CHANNELS[1], FS, nfft=256)
+    np.testing.assert_array_equal(parts.coherence[1], one.coherence)
+    # The 1500 Hz tone of channel 1 is discrete; channel 0 (noise) has no coherent bin.
+    assert np.interp(1500.0, one.f, one.coherence) > 0.9
+    assert parts.coherence[0].max() < 0.5
