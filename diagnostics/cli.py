@@ -243,6 +243,7 @@ def _family_summary(d: Diagnosis) -> dict:
             "evidence": s.evidence,
             "sideband_hz": s.sideband_hz,
             "n_sidebands_significant": s.n_sidebands_significant,
+            "slower_period": s.slower_period,
         }
     return out
 
@@ -452,6 +453,14 @@ def _print_summary(sig, rpm: float, d: Diagnosis, out: Path, n_files: int) -> No
         f"band {d.band[0]:.4g}-{d.band[1]:.4g} {unit})",
         "scores: " + "  ".join(f"{k} {v:.0f}" for k, v in d.scores.items()),
     ]
+    for family, s in d.families.items():
+        if s is not None and s.slower_period:
+            rate = s.found_hz / s.slower_period
+            lines.append(
+                f"not named: {family} (the lines between its {s.comb} harmonics show impacts "
+                f"at {rate:.4g} {unit}, 1/{s.slower_period} of its rate: no fault of this "
+                "bearing)"
+            )
     for family in d.dominated:
         lines.append(
             f"not named: {family} (its lines belong to a stronger series at "

@@ -192,7 +192,8 @@ class FamilyScore:
         the squared envelope by at least ``min_modulation``.
     near_miss : float
         In [0, 1]: how close the family came to detection on a log-probability scale
-        (1 when detected).
+        (1 when detected). A comb set aside as a slower period (``slower_period``) came as
+        close as a quarter over the in-between lines' share of its strength allows.
     sideband_hz : float
         Modulation rate whose sidebands were measured (shaft rate for the inner race, cage
         rate for the rolling elements, 0 for the outer race).
@@ -544,11 +545,11 @@ def _slower_period(
     alpha_pair: float,
     min_modulation: float,
     periods: tuple[int, ...] = (2, 3),
-) -> int:
-    """The ``q`` of ``periods`` (2, 3 or 4) where the lines at ``j * fc / q`` (``j`` not a
-    multiple of ``q``, odd for ``q`` = 4, below the comb's top harmonic) hold a significant
-    pair, as a comb's pair is judged, and a series at least a quarter as strong as the
-    comb's own (``z_comb``); else 0.
+) -> tuple[int, float]:
+    """``(q, share)``: the ``q`` of ``periods`` (2, 3 or 4) where the lines at ``j * fc / q``
+    (``j`` not a multiple of ``q``, odd for ``q`` = 4, below the comb's top harmonic) hold a
+    significant pair, as a comb's pair is judged, and a series at least a quarter as strong
+    as the comb's own (``z_comb``), and that strength over the comb's; else ``(0, 0.0)``.
 
     Their places are fixed by the comb, so each line's p-value is over a window of four bins
     (the line between two bins, and a bin of spread either side). A train of impacts at
@@ -566,13 +567,14 @@ def _slower_period(
         p = np.sort(p_line)
         if p.size < 2 or _pair_tail(p[0] * p[1]) > alpha_pair or p[1] > _SUPPORT_P:
             continue
-        if series_strength(z) < _SLOWER_SHARE * series_strength(z_comb):
+        ratio = series_strength(z) / series_strength(z_comb)
+        if ratio < _SLOWER_SHARE:
             continue
         lo = np.clip(np.floor(freqs / df).astype(int), 0, m.size - 2)
         depth = np.hypot(m[lo], m[lo + 1])
         if depth[p_line <= _SUPPORT_P].max() >= min_modulation:
-            return q
-    return 0
+            return q, ratio
+    return 0, 0.0
 
 
 def _score_family(
@@ -615,13 +617,21 @@ def _score_family(
     depth = np.hypot(m[lo], m[lo + 1])
     strongest = float(depth[support].max()) if support.any() else 0.0
     detected = bool(pair_p <= alpha_pair and p2 <= _SUPPORT_P and strongest >= min_modulation)
-    slower = _slower_period(z_masked, m, df, fc, zk, n_harm, alpha_pair, min_modulation, slower)
-    detected = detected and slower == 0
     closeness = min(
         math.log(max(pair_p, 1e-300)) / math.log(alpha_pair),
         math.log(max(p2, 1e-300)) / math.log(_SUPPORT_P),
         strongest / min_modulation,
     )
+    # Only a detected comb can turn out to be a slower train's: it is then no near miss of
+    # this fault in proportion as the in-between lines are strong.
+    period, ratio = (0, 0.0)
+    if detected:
+        period, ratio = _slower_period(
+            z_masked, m, df, fc, zk, n_harm, alpha_pair, min_modulation, slower
+        )
+    if period:
+        detected = False
+        closeness = min(closeness, _SLOWER_SHARE / ratio)
     if sideband_hz > 0.0:
         # Sidebands sit at a fixed offset from the found line; allow a bin either side.
         offsets = np.array([-sideband_hz, sideband_hz])
@@ -655,7 +665,7 @@ def _score_family(
         sideband_z=sb,
         n_sidebands_significant=n_sb,
         resolution_hz=df,
-        slower_period=slower,
+        slower_period=period,
     )
 
 

@@ -97,6 +97,27 @@ def test_cli_names_the_stronger_series_of_another_component(cwru_dir, tmp_path, 
     assert "2xBSF (set aside)" in marks and "2xBSF (found)" not in marks
 
 
+def test_cli_names_a_slower_train(tmp_path, capsys):
+    """Impacts at half of BPFI (0.3 % off) on a healthy bearing: the inner-race comb is set
+    aside as a slower period, and the line says at what rate the impacts repeat."""
+    sys.path.insert(0, str(ROOT / "tests"))
+    from test_diag_diagnose import FREQS, fault_signal
+
+    path = tmp_path / "half.npz"
+    x = fault_signal(12000.0, 0.5 * 1.003 * FREQS.bpfi, 4500.0, seed=101)
+    np.savez(path, x=x, fs=12000.0)
+    out = tmp_path / "h"
+    args = ["analyze", str(path), "--rpm", "1797", "--bearing", BEARING, "--out", str(out)]
+    assert main(args) == 0
+    summary = json.loads((out / "summary.json").read_text())
+    inner = summary["families"]["inner"]
+    assert summary["verdict"] == "none" and inner["slower_period"] == 2
+    expected = (
+        f"the lines between its BPFI harmonics show impacts at {inner['found_hz'] / 2:.4g} Hz"
+    )
+    assert f"not named: inner ({expected}" in capsys.readouterr().out
+
+
 def test_cli_notch_and_rpm_override(tmp_path, capsys):
     # A CSV without speed: --rpm is required and used; --notch is recorded.
     fs = 12000.0
