@@ -535,6 +535,26 @@ def _best_pair(p: np.ndarray, observed: np.ndarray) -> tuple[float, float]:
     return best
 
 
+def _pair_evidence(
+    p: np.ndarray, observed: np.ndarray, depth: np.ndarray
+) -> tuple[float, float, float]:
+    """``(pair_p, p2, strongest)`` of a comb's harmonics: the joint p-value of its best pair
+    (:func:`_best_pair`), the weaker p-value of that pair, and the deepest modulation among
+    the supporting harmonics (0 where none supports)."""
+    p1, p2 = _best_pair(p, observed)
+    support = p <= _SUPPORT_P
+    strongest = float(depth[support].max()) if support.any() else 0.0
+    return _pair_tail(p1 * p2), p2, strongest
+
+
+def _detects(
+    pair_p: float, p2: float, strongest: float, alpha_pair: float, min_modulation: float
+) -> bool:
+    """The detection rule: a jointly significant pair, both lines supporting, and a
+    supporting line deep enough."""
+    return bool(pair_p <= alpha_pair and p2 <= _SUPPORT_P and strongest >= min_modulation)
+
+
 def _slower_period(
     z_masked: np.ndarray,
     m: np.ndarray,
@@ -609,14 +629,12 @@ def _score_family(
     pos = k * fc / df
     lo = np.clip(np.floor(pos).astype(int), 0, m.size - 2)
     observed = ~(masked[lo] & masked[lo + 1])
-    p1, p2 = _best_pair(p, observed)
-    pair_p = _pair_tail(p1 * p2)
     support = p <= _SUPPORT_P
     # Depth from the power of the two bins around each line: within 1 dB of the true
     # amplitude wherever the line falls (the larger bin alone can lose 4 dB).
     depth = np.hypot(m[lo], m[lo + 1])
-    strongest = float(depth[support].max()) if support.any() else 0.0
-    detected = bool(pair_p <= alpha_pair and p2 <= _SUPPORT_P and strongest >= min_modulation)
+    pair_p, p2, strongest = _pair_evidence(p, observed, depth)
+    detected = _detects(pair_p, p2, strongest, alpha_pair, min_modulation)
     closeness = min(
         math.log(max(pair_p, 1e-300)) / math.log(alpha_pair),
         math.log(max(p2, 1e-300)) / math.log(_SUPPORT_P),
@@ -712,16 +730,14 @@ def _holds_apart(
     p = np.where(explained, 1.0, s.p_values)
     lo = np.clip(np.floor(s.lines_hz / df).astype(int), 0, b.f.size - 2)
     masked = _shaft_mask(b.f, shaft_hz)
-    p1, p2 = _best_pair(p, ~(masked[lo] & masked[lo + 1]))
-    support = p <= _SUPPORT_P
-    strongest = float(s.modulation[support].max()) if support.any() else 0.0
-    return _pair_tail(p1 * p2) <= alpha_pair and p2 <= _SUPPORT_P and strongest >= min_modulation
+    evidence = _pair_evidence(p, ~(masked[lo] & masked[lo + 1]), s.modulation)
+    return _detects(*evidence, alpha_pair, min_modulation)
 
 
-def series_strength(z: np.ndarray) -> float:
+def series_strength(z: np.ndarray):
     """Strength of a harmonic series: the sum of its strongest normalised harmonic values
-    (three, or as many as were tested)."""
-    return float(np.sort(np.asarray(z, dtype=float))[-_STRENGTH_TOP:].sum())
+    (three, or as many as were tested), along the last axis (one per row of a 2-D ``z``)."""
+    return np.sort(np.asarray(z, dtype=float), axis=-1)[..., -_STRENGTH_TOP:].sum(axis=-1)
 
 
 def _other_series_scan(
@@ -771,7 +787,7 @@ def _other_series_scan(
     grid = np.exp(np.arange(math.log(lo), math.log(hi), df / (2.0 * n * hi)))
     lines = np.outer(grid, np.arange(1, n + 1))
     values = np.where(lines <= top, _line_values(z_other, df, lines), 0.0)
-    strength = np.sort(values, axis=1)[:, -_STRENGTH_TOP:].sum(axis=1)
+    strength = series_strength(values)
     # A series at a fault frequency's double or triple is made of its harmonics; the
     # cage rate's first multiples likewise; the ball spin rate is a ball fault's own.
     own = [freqs.ftf * m for m in (1, 2, 3)] + [freqs.bsf]
