@@ -55,8 +55,8 @@ _EXPORTS = {
     "kurtosis": ("Kurtogram", "kurtogram", "sk_threshold", "spectral_kurtosis"),
     "separation": ("Separation", "discrete_random_separation"),
     "spectral": ("psd", "stft", "third_octave"),
-    "speed": ("OrderTrack", "SpeedEstimate", "estimate_speed", "order_track", "shaft_angle",
-              "speed_from_tacho"),
+    "speed": ("OrderTrack", "ShaftLines", "SpeedEstimate", "estimate_speed", "order_track",
+              "shaft_angle", "shaft_lines", "speed_from_tacho"),
 }  # fmt: skip
 _MODULE_OF = {name: module for module, names in _EXPORTS.items() for name in names}
 

@@ -43,7 +43,8 @@ class BenchmarkResult:
         Confidence of the verdict (0 on an error).
     detail : str
         Fault size and position (and the families set aside for another source's series,
-        with its rate in shaft orders), or the error message.
+        with its rate in shaft orders; the speed's correction from the record's own shaft
+        lines, or that none were found), or the error message.
     """
 
     path: Path
@@ -124,11 +125,9 @@ def run_benchmark(
             if other_bearing and _copies(rec.x, read_labelled_record(path, label).x):
                 detail = f"{detail} (channel copies the {label.end} end's)".strip()
             d = diagnose_fn(rec.x, rec.fs, rec.geometry, rec.shaft_hz, **options)
-            aside = getattr(d, "dominated", ())
-            if aside:
-                orders = d.other_series[0] / rec.shaft_hz
-                note = f"set aside: {', '.join(aside)}; other series at {orders:.3f} orders"
-                detail = f"{detail} ({note})".strip()
+            notes = _notes(d, rec.shaft_hz)
+            if notes:
+                detail = f"{detail} ({'; '.join(notes)})".strip()
             result = BenchmarkResult(path, group, expected, d.fault, float(d.confidence), detail)
         except ValueError as exc:
             result = BenchmarkResult(path, group, expected, "error", 0.0, str(exc))
@@ -136,6 +135,27 @@ def run_benchmark(
             progress(result)
         results.append(result)
     return results
+
+
+def _notes(d, shaft_hz: float) -> list[str]:
+    """What a record's detail says of a diagnosis besides the fault size: the families set
+    aside for another source's series, and a speed the record's shaft lines corrected or
+    could not confirm (``shaft_hz``: the file's speed, where ``d`` gives none)."""
+    notes = []
+    frequencies = getattr(d, "frequencies", None)
+    shaft = frequencies.shaft if frequencies is not None else shaft_hz
+    aside = getattr(d, "dominated", ())
+    if aside:
+        orders = d.other_series[0] / shaft
+        notes.append(f"set aside: {', '.join(aside)}; other series at {orders:.3f} orders")
+    lines = getattr(d, "shaft_lines", None)
+    if lines is not None and getattr(d, "domain", "time") == "time":
+        if not lines.present:
+            notes.append(f"no shaft lines within {100 * lines.tolerance:g} % of the speed")
+        elif d.frequencies.shaft != lines.given_hz:
+            change = 100.0 * (d.frequencies.shaft / lines.given_hz - 1.0)
+            notes.append(f"speed {change:+.1f} % from the shaft lines")
+    return notes
 
 
 def _copies(a: np.ndarray, b: np.ndarray) -> bool:

@@ -129,6 +129,13 @@ def add_analyze_arguments(parser: argparse.ArgumentParser) -> None:
         "confidence",
     )
     parser.add_argument(
+        "--keep-speed",
+        action="store_true",
+        help="analyse at the speed given even where the record's shaft harmonics stand "
+        "elsewhere (by default they are sought within 5 %% of it and the analysis moves to "
+        "them when more than 0.5 %% away)",
+    )
+    parser.add_argument(
         "--notch",
         type=float,
         nargs="+",
@@ -356,6 +363,43 @@ def shaft_rate(args: argparse.Namespace, sig):
     return rpm / 60.0, "--rpm" if args.rpm is not None else "file", None
 
 
+def _shaft_lines_summary(d: Diagnosis) -> dict | None:
+    lines = d.shaft_lines
+    if lines is None:
+        return None
+    return {
+        "given": lines.given_hz,
+        "found": lines.found_hz,
+        "present": lines.present,
+        "n_standing": lines.n_standing,
+        "n_harmonics": lines.n_harmonics,
+        "p_value": lines.p_value,
+        "analysed_at": d.frequencies.shaft,
+        "unit": "orders" if d.domain == "order" else "Hz",
+    }
+
+
+def _speed_check_lines(d: Diagnosis, unit: str) -> list[str]:
+    """What the record's own shaft lines said of the speed given."""
+    lines = d.shaft_lines
+    if lines is None:
+        return []
+    given = f"{lines.given_hz:.4g} {unit}"
+    if not lines.present:
+        return [
+            f"warning: no shaft harmonics within {100 * lines.tolerance:g} % of the shaft rate "
+            f"given ({given}): check the speed, the sampling rate and the channel"
+        ]
+    if d.frequencies.shaft != lines.given_hz:
+        change = 100.0 * lines.offset
+        return [
+            f"speed: the record's shaft harmonics stand at {lines.found_hz:.4g} {unit}, "
+            f"{abs(change):.1f} % {'below' if change < 0 else 'above'} the {given} given: "
+            "analysed there"
+        ]
+    return []
+
+
 def run_analyze(args: argparse.Namespace) -> int:
     from diagnostics.diagnose import diagnose
     from diagnostics.filters import notch_filter
@@ -375,7 +419,7 @@ def run_analyze(args: argparse.Namespace) -> int:
     x = raw
     for f0 in args.notch:
         x = notch_filter(x, sig.fs, f0)
-    d = diagnose(x, sig.fs, geometry, shaft_hz)
+    d = diagnose(x, sig.fs, geometry, shaft_hz, correct_speed=not args.keep_speed)
     figures = _figures(x, sig.fs, d, list(args.notch), raw, out)
     if rates.size > 1:
         figures.append(_speed_figure(rates, sig.fs, speed_source, out))
@@ -401,7 +445,9 @@ def run_analyze(args: argparse.Namespace) -> int:
             "pitch_diameter_m": geometry.pitch_diameter,
             "contact_angle_deg": geometry.contact_angle_deg,
         },
-        "fault_frequencies_hz": bearing_frequencies(geometry, rpm / 60.0).as_dict(),
+        "fault_frequencies_hz": (
+            d.frequencies if d.domain == "time" else bearing_frequencies(geometry, rpm / 60.0)
+        ).as_dict(),
         "fault_orders": bearing_frequencies(geometry, 1.0).as_dict(),
         "kurtogram": None
         if kg is None
@@ -420,6 +466,7 @@ def run_analyze(args: argparse.Namespace) -> int:
         "families": _family_summary(d),
         "dominated": list(d.dominated),
         "other_series": dict(zip(("fundamental", "strength"), d.other_series, strict=True)),
+        "shaft_lines": _shaft_lines_summary(d),
         "notch_hz": list(args.notch),
         "figures": figures,
     }
@@ -433,7 +480,7 @@ def _print_summary(sig, rpm: float, d: Diagnosis, out: Path, n_files: int) -> No
     kg = d.kurtogram
     unit = "orders" if d.domain == "order" else "Hz"
     speed = (
-        f"{rpm:g} rpm (shaft {f.shaft:.2f} Hz)"
+        f"{rpm:g} rpm (shaft {rpm / 60.0:.2f} Hz)"
         if d.domain == "time"
         else f"varying speed, mean {rpm:.0f} rpm: order domain, {d.samples_per_rev:g} samples/rev"
     )
@@ -442,6 +489,7 @@ def _print_summary(sig, rpm: float, d: Diagnosis, out: Path, n_files: int) -> No
         f"fault frequencies: FTF {f.ftf:.4g}  BPFO {f.bpfo:.4g}  BPFI {f.bpfi:.4g}  "
         f"BSF {f.bsf:.4g} {unit}",
     ]
+    lines[1:1] = _speed_check_lines(d, unit)
     if kg is not None:
         lines.append(
             f"kurtogram best band: {kg.band[0]:.4g}-{kg.band[1]:.4g} {unit} "

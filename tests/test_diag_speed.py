@@ -272,7 +272,10 @@ def test_order_domain_agrees_with_time_on_measured_records():
         orders = _diagnose_orders(
             rec.x, rec.fs, rec.geometry, rate, spr, _TAPER_S * rec.shaft_hz, options
         )
-        assert orders.domain == "order" and orders.frequencies.shaft == 1.0
+        # At 1 order, or where the record's shaft lines stand (MFPT's nominal 25 Hz is
+        # 0.6-1 % above them; diagnose moves there in orders as in time).
+        assert orders.domain == "order"
+        assert orders.frequencies.shaft in (1.0, orders.shaft_lines.found_hz)
         time = diagnose(rec.x, rec.fs, rec.geometry, rec.shaft_hz)
         assert orders.fault == time.fault, path.name
 
