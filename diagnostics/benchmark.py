@@ -122,10 +122,10 @@ def run_benchmark(
             group, expected = f"{group}, {end}-end channel and bearing", "none"
         try:
             rec = read_labelled_record(path, label, end=end)
-            if other_bearing and _copies(rec.x, read_labelled_record(path, label).x):
-                detail = f"{detail} (channel copies the {label.end} end's)".strip()
+            copies = other_bearing and _copies(rec.x, read_labelled_record(path, label).x)
             d = diagnose_fn(rec.x, rec.fs, rec.geometry, rec.shaft_hz, **options)
-            notes = _notes(d, rec.shaft_hz)
+            notes = [f"channel copies the {label.end} end's"] if copies else []
+            notes += _notes(d, rec.shaft_hz)
             if notes:
                 detail = f"{detail} ({'; '.join(notes)})".strip()
             result = BenchmarkResult(path, group, expected, d.fault, float(d.confidence), detail)
@@ -152,8 +152,7 @@ def _notes(d, shaft_hz: float) -> list[str]:
     if lines is not None and getattr(d, "domain", "time") == "time":
         if not lines.present:
             notes.append(f"no shaft lines within {100 * lines.tolerance:g} % of the speed")
-        elif d.frequencies.shaft != lines.given_hz:
-            change = 100.0 * (d.frequencies.shaft / lines.given_hz - 1.0)
+        elif abs(change := 100.0 * (d.frequencies.shaft / lines.given_hz - 1.0)) >= 0.05:
             notes.append(f"speed {change:+.1f} % from the shaft lines")
     return notes
 

@@ -132,8 +132,8 @@ def add_analyze_arguments(parser: argparse.ArgumentParser) -> None:
         "--keep-speed",
         action="store_true",
         help="analyse at the speed given even where the record's shaft harmonics stand "
-        "elsewhere (by default they are sought within 5 %% of it and the analysis moves to "
-        "them when more than 0.5 %% away)",
+        "elsewhere (by default they are sought within 5 %% of it and the analysis runs at "
+        "their rate)",
     )
     parser.add_argument(
         "--notch",
@@ -390,10 +390,10 @@ def _speed_check_lines(d: Diagnosis, unit: str) -> list[str]:
             f"warning: no shaft harmonics within {100 * lines.tolerance:g} % of the shaft rate "
             f"given ({given}): check the speed, the sampling rate and the channel"
         ]
-    if d.frequencies.shaft != lines.given_hz:
-        change = 100.0 * lines.offset
+    change = 100.0 * (d.frequencies.shaft / lines.given_hz - 1.0)
+    if abs(change) >= 0.05:
         return [
-            f"speed: the record's shaft harmonics stand at {lines.found_hz:.4g} {unit}, "
+            f"speed: the record's shaft harmonics stand at {d.frequencies.shaft:.4g} {unit}, "
             f"{abs(change):.1f} % {'below' if change < 0 else 'above'} the {given} given: "
             "analysed there"
         ]

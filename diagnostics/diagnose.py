@@ -152,12 +152,13 @@ _LINE_SPREAD = 1e-3
 _SLOWER = {"BPFO": (2, 3), "BPFI": (2, 3), "2xBSF": (3, 4), "FTF": ()}
 # A series' strength: the sum of its strongest harmonics, this many of those tested.
 _STRENGTH_TOP = 3
-# The record's own shaft lines are sought within this share of the speed given, and replace
-# it where they lie more than _SPEED_KEPT of the slip tolerance from it: an error that small
-# costs the comb search little, and re-centring on the lines would move the slip windows
-# by the lines' own scatter (CWRU files' RPM lies within 0.2 % of their lines).
+# The record's own shaft lines are sought within this share of the speed given, and the
+# series found there weighed against the best within _SPEED_NEAR of the slip tolerance of it.
+# The analysis then runs at the rate of the stronger: CWRU files' RPM lies up to 0.2 % from
+# their lines, which puts the 5th shaft harmonic of the envelope spectrum (10 s records)
+# outside its +-2.5-bin mask already.
 _SPEED_TOLERANCE = 0.05
-_SPEED_KEPT = 0.25
+_SPEED_NEAR = 0.25
 
 
 @dataclass(frozen=True)
@@ -950,12 +951,12 @@ def diagnose(
         angular sampling of what was analysed.
     correct_speed : bool
         Check the speed on the record's own shaft harmonics
-        (:func:`diagnostics.speed.shaft_lines`, within 5 % of the rate given, in orders in
-        the order domain) and analyse at their rate where it differs from the given one by
-        more than a quarter of ``slip`` and their series is stronger than the one within
-        that quarter: a speed read off a name plate or a nominal value can be a few percent
-        off, and the fault combs and shaft masks with it. A record without such harmonics
-        is analysed at the given rate (``Diagnosis.shaft_lines`` says which).
+        (:func:`diagnostics.speed.shaft_lines`; in orders in the order domain) and analyse
+        at their rate: the stronger of the series found within a quarter of ``slip`` of the
+        rate given and the one found within 5 % of it. A speed read off a name plate or a
+        nominal value can be a few percent off, and the fault combs and shaft masks with
+        it. A record without such harmonics is analysed at the rate given
+        (``Diagnosis.shaft_lines`` says which).
 
     Returns
     -------
@@ -1032,14 +1033,15 @@ def diagnose(
 
 def _speed_check(x: np.ndarray, fs: float, shaft_hz: float, slip: float) -> ShaftLines:
     """The record's shaft series: the stronger of the best near the speed given (within a
-    quarter of the slip) and the best within 5 % of it.
+    quarter of the slip) and the best within 5 % of it (the wide one where neither is
+    present).
 
     Another source's lines can form a series at a rate close to the shaft's: impacts at a
     third of a neighbouring bearing's BPFO, 1.8 % above the shaft rate, have lines at every
     multiple of it, and outnumbered six strong shaft harmonics within 5 % (12 harmonics
     standing against 6) though they are weaker (a strength of 38 against 46). The speed
     given is kept where its own series is the stronger."""
-    near = shaft_lines(x, fs, shaft_hz, tolerance=_SPEED_KEPT * slip)
+    near = shaft_lines(x, fs, shaft_hz, tolerance=_SPEED_NEAR * slip)
     wide = shaft_lines(x, fs, shaft_hz, tolerance=_SPEED_TOLERANCE)
     return near if near.present and near.strength >= wide.strength else wide
 
@@ -1114,7 +1116,7 @@ def _diagnose_steady(
         )
 
     lines = _speed_check(x, fs, shaft_hz, slip)
-    if correct_speed and lines.present and abs(lines.offset) > _SPEED_KEPT * slip:
+    if correct_speed and lines.present:
         shaft_hz = lines.found_hz
         freqs = bearing_frequencies(geometry, shaft_hz)
         fundamentals = _family_fundamentals(freqs)
