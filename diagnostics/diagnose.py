@@ -956,7 +956,8 @@ def diagnose(
         rate given and the one found within 5 % of it. A speed read off a name plate or a
         nominal value can be a few percent off, and the fault combs and shaft masks with
         it. A record without such harmonics is analysed at the rate given
-        (``Diagnosis.shaft_lines`` says which).
+        (``Diagnosis.shaft_lines`` says which). Turn it off for a speed known exactly (a
+        tachometer's) on a machine with another shaft turning within 5 % of this one's.
 
     Returns
     -------
