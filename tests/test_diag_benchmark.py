@@ -274,3 +274,22 @@ def test_detail_names_the_families_set_aside(synthetic_set):
     results = run_benchmark(find_records(synthetic_set), diagnose_fn=stub)
     assert results[0].detail == "0.007 in@6 (set aside: ball; other series at 3.500 orders)"
     assert results[2].detail == "(set aside: ball; other series at 3.500 orders)"  # baseline
+
+
+def test_detail_says_what_the_shaft_lines_did_to_the_speed(synthetic_set):
+    """A speed moved to the record's shaft lines is given as its change; a record whose
+    spectrum holds no shaft series near the file's speed (these synthetic records are
+    impacts in noise) says so."""
+    from types import SimpleNamespace
+
+    from diagnostics.speed import ShaftLines
+
+    def moved(x, fs, geometry, shaft_hz):
+        lines = ShaftLines(shaft_hz, 0.993 * shaft_hz, 20, 10, 50.0, 1e-10, 0.05)
+        shaft = SimpleNamespace(shaft=lines.found_hz)
+        return SimpleNamespace(fault="none", confidence=1.0, frequencies=shaft, shaft_lines=lines)
+
+    results = run_benchmark(find_records(synthetic_set), diagnose_fn=moved)
+    assert results[0].detail == "0.007 in@6 (speed -0.7 % from the shaft lines)"
+    real = run_benchmark(find_records(synthetic_set)[:1])
+    assert real[0].detail == "0.007 in@6 (no shaft lines within 5 % of the speed)"
