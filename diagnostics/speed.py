@@ -238,7 +238,8 @@ def shaft_lines(
     k = np.arange(1, n_harm + 1)
     # Candidates close enough that the top harmonic moves by half a bin per step.
     grid = np.arange((1.0 - tolerance) * shaft_hz, top, df / (2.0 * n_harm))
-    values, stands = _harmonic_lines(z, df, grid, k)
+    lo = np.clip(np.floor(np.outer(grid, k) / df).astype(int), 0, z.size - 2)
+    values = np.maximum(z[lo], z[lo + 1])
     # Only lines that stand out count toward a candidate's score (summed as log1p, so that
     # one loud line, a mains harmonic, cannot carry it); the background's random bins at the
     # other harmonics would otherwise move the best candidate about.
@@ -247,10 +248,10 @@ def shaft_lines(
     # misalignment). Without that rule an impact train near a multiple of the shaft rate,
     # whose lines fall on every third harmonic of a rate close to the shaft's, can outscore
     # a shaft series of few harmonics.
-    starts = stands[:, : min(2, n_harm)].any(axis=1)
+    starts = _harmonic_lines(z, df, grid, k[:2])[1].any(axis=1)
     best = int(np.argmax(np.where(starts, score, -np.inf) if starts.any() else score))
     found = float(grid[best])
-    standing = stands[best] if starts[best] else np.zeros(n_harm, dtype=bool)
+    standing = _harmonic_lines(z, df, grid[best : best + 1], k)[1][0] & starts[best]
     for _ in range(2):
         if not standing.any():
             break
