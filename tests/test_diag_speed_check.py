@@ -233,3 +233,26 @@ def test_dev_records_shaft_lines(dev_records):
         else:
             assert lines.present and abs(lines.offset) < 0.002, path.name
             assert d.frequencies.shaft == lines.found_hz
+
+
+def test_speed_error_scan_prints_its_table(tmp_path, capsys):
+    """benchmarks/speed_error_scan.py on a folder of CWRU-named synthetic records: one row
+    per factor, faults and other-end checks with the check off and on."""
+    from test_diag_benchmark import _cwru_file, _impacts
+
+    from benchmarks.speed_error_scan import main as scan
+    from diagnostics import bearing_frequencies
+    from diagnostics.datasets import CWRU_DRIVE_END
+
+    folder = tmp_path / "cwru"
+    folder.mkdir()
+    shaft = 1797 / 60.0
+    n = int(2 * FS)
+    x = _impacts(FS, bearing_frequencies(CWRU_DRIVE_END, shaft).bpfo, 2.0, 1) + harmonics(shaft, n)
+    noise = np.random.default_rng(5).standard_normal(n)
+    _cwru_file(folder, "12k_Drive_End_OR007@6_0_130.mat", 130, x, noise, rpm=1797)
+    assert scan([str(tmp_path), "--factors", "1.0", "1.03"]) == 0
+    rows = capsys.readouterr().out.splitlines()[-2:]
+    assert rows[0].split() == ["1.000", "1/1", "->", "1/1", "1/1", "->", "1/1"]
+    assert rows[1].split() == ["1.030", "0/1", "->", "1/1", "1/1", "->", "1/1"]
+    assert scan([str(tmp_path / "nothing")]) == 2
