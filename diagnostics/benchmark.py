@@ -152,7 +152,7 @@ def _notes(d, shaft_hz: float) -> list[str]:
     if lines is not None and getattr(d, "domain", "time") == "time":
         if not lines.present:
             notes.append(f"no shaft lines within {100 * lines.tolerance:g} % of the speed")
-        elif abs(change := 100.0 * (d.frequencies.shaft / lines.given_hz - 1.0)) >= 0.05:
+        elif abs(change := 100.0 * d.speed_change) >= 0.05:
             notes.append(f"speed {change:+.1f} % from the shaft lines")
     return notes
 

@@ -390,7 +390,7 @@ def _speed_check_lines(d: Diagnosis, unit: str) -> list[str]:
             f"warning: no shaft harmonics within {100 * lines.tolerance:g} % of the shaft rate "
             f"given ({given}): check the speed, the sampling rate and the channel"
         ]
-    change = 100.0 * (d.frequencies.shaft / lines.given_hz - 1.0)
+    change = 100.0 * d.speed_change
     if abs(change) >= 0.05:
         return [
             f"speed: the record's shaft harmonics stand at {d.frequencies.shaft:.4g} {unit}, "

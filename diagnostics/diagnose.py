@@ -335,6 +335,13 @@ class Diagnosis:
     shaft_lines: ShaftLines | None = field(default=None, repr=False)
 
     @property
+    def speed_change(self) -> float:
+        """Relative change of the shaft rate analysed from the one given (0 where the
+        record's shaft lines were not used)."""
+        lines = self.shaft_lines
+        return 0.0 if lines is None else self.frequencies.shaft / lines.given_hz - 1.0
+
+    @property
     def best_band(self) -> BandScore:
         """The candidate band the verdict came from."""
         for b in self.bands:

@@ -286,8 +286,13 @@ def test_detail_says_what_the_shaft_lines_did_to_the_speed(synthetic_set):
 
     def moved(x, fs, geometry, shaft_hz):
         lines = ShaftLines(shaft_hz, 0.993 * shaft_hz, 20, 10, 50.0, 1e-10, 0.05)
-        shaft = SimpleNamespace(shaft=lines.found_hz)
-        return SimpleNamespace(fault="none", confidence=1.0, frequencies=shaft, shaft_lines=lines)
+        return SimpleNamespace(
+            fault="none",
+            confidence=1.0,
+            frequencies=SimpleNamespace(shaft=lines.found_hz),
+            shaft_lines=lines,
+            speed_change=lines.offset,
+        )
 
     results = run_benchmark(find_records(synthetic_set), diagnose_fn=moved)
     assert results[0].detail == "0.007 in@6 (speed -0.7 % from the shaft lines)"

@@ -96,6 +96,8 @@ def test_fault_found_where_the_speed_given_is_3_percent_off(factor):
     assert d.fault == "outer"
     assert d.frequencies.shaft == pytest.approx(SHAFT_HZ, rel=2e-4)
     assert d.shaft_lines.present and d.shaft_lines.given_hz == given
+    assert d.speed_change == pytest.approx(1.0 / factor - 1.0, abs=2e-4)
+    assert kept.speed_change == 0.0
 
 
 def test_speed_a_little_off_is_moved_to_the_shaft_lines():
