@@ -20,7 +20,14 @@ import numpy as np
 from diagnostics.datasets import label_from_name, read_labelled_record
 from diagnostics.diagnose import diagnose
 
-__all__ = ["BenchmarkResult", "find_records", "run_benchmark", "summary_table", "record_table"]
+__all__ = [
+    "BenchmarkResult",
+    "find_records",
+    "run_benchmark",
+    "summary_table",
+    "speed_summary",
+    "record_table",
+]
 
 VERDICTS = ("outer", "inner", "ball", "none")
 
@@ -45,6 +52,12 @@ class BenchmarkResult:
         Fault size and position (and the families set aside for another source's series,
         with its rate in shaft orders; the speed's correction from the record's own shaft
         lines, or that none were found), or the error message.
+    speed_change : float
+        Relative change of the shaft rate analysed from the file's (the record's own
+        shaft lines; 0 where they were not used).
+    shaft_lines : bool or None
+        Whether the record shows a shaft series near the file's speed (None where the
+        diagnosis does not say, or on an error).
     """
 
     path: Path
@@ -53,6 +66,8 @@ class BenchmarkResult:
     verdict: str
     confidence: float
     detail: str = ""
+    speed_change: float = 0.0
+    shaft_lines: bool | None = None
 
     @property
     def correct(self) -> bool:
@@ -128,7 +143,17 @@ def run_benchmark(
             notes += _notes(d, rec.shaft_hz)
             if notes:
                 detail = f"{detail} ({'; '.join(notes)})".strip()
-            result = BenchmarkResult(path, group, expected, d.fault, float(d.confidence), detail)
+            lines = getattr(d, "shaft_lines", None)
+            result = BenchmarkResult(
+                path,
+                group,
+                expected,
+                d.fault,
+                float(d.confidence),
+                detail,
+                float(getattr(d, "speed_change", 0.0)),
+                None if lines is None else bool(lines.present),
+            )
         except ValueError as exc:
             result = BenchmarkResult(path, group, expected, "error", 0.0, str(exc))
         if progress is not None:
@@ -196,6 +221,36 @@ def summary_table(results: list[BenchmarkResult]) -> str:
     right = sum(r.correct for r in results)
     lines.append(f"{'all':<{width}}  {'':<5}  {total:>7}  {f'{right}/{total}':>7}")
     return "\n".join(line.rstrip() for line in lines)
+
+
+def speed_summary(results: list[BenchmarkResult]) -> str:
+    """What the records' own shaft lines said of the files' speeds, in two lines (empty
+    where no diagnosis reported its shaft lines).
+
+    Examples
+    --------
+    >>> r = [BenchmarkResult(Path("a.mat"), "MFPT", "inner", "inner", 1.0, "", -0.0065, True),
+    ...      BenchmarkResult(Path("b.mat"), "MFPT", "inner", "none", 1.0, "", 0.0, False)]
+    >>> print(speed_summary(r))
+    speed read from the shaft lines: 1 of 2 records 0.05 % or more from the file's (-0.65 %)
+    no shaft lines within 5 % of the file's speed: b.mat
+    """
+    checked = [r for r in results if r.shaft_lines is not None]
+    if not checked:
+        return ""
+    moved = [r.speed_change for r in checked if abs(r.speed_change) >= 5e-4]
+    span = ""
+    if moved:
+        lo, hi = 100.0 * min(moved), 100.0 * max(moved)
+        span = f" ({lo:+.2f} %)" if lo == hi else f" ({lo:+.2f} to {hi:+.2f} %)"
+    missing = [r.path.name for r in checked if not r.shaft_lines]
+    lines = [
+        f"speed read from the shaft lines: {len(moved)} of {len(checked)} records 0.05 % or "
+        f"more from the file's{span}"
+    ]
+    if missing:
+        lines.append(f"no shaft lines within 5 % of the file's speed: {', '.join(missing)}")
+    return "\n".join(lines)
 
 
 def record_table(results: list[BenchmarkResult]) -> str:

@@ -583,6 +583,9 @@ def run_benchmark(args: argparse.Namespace) -> int:
         )
     if args.records:
         print()
+    speeds = benchmark.speed_summary(results)
+    if speeds:
+        print(speeds + "\n")
     print(benchmark.summary_table(results))
     if args.csv is not None:
         import pandas as pd
@@ -596,6 +599,8 @@ def run_benchmark(args: argparse.Namespace) -> int:
                 "confidence": r.confidence,
                 "correct": r.correct,
                 "detail": r.detail,
+                "speed_change": r.speed_change,
+                "shaft_lines": r.shaft_lines,
             }
             for r in results
         ]

@@ -258,3 +258,14 @@ def test_speed_error_scan_prints_its_table(tmp_path, capsys):
     assert rows[0].split() == ["1.000", "1/1", "->", "1/1", "1/1", "->", "1/1"]
     assert rows[1].split() == ["1.030", "0/1", "->", "1/1", "1/1", "->", "1/1"]
     assert scan([str(tmp_path / "nothing")]) == 2
+
+
+def test_benchmark_names_the_records_without_shaft_lines(dev_records, capsys):
+    """The benchmark command says how many records' speeds the shaft lines moved and which
+    records show none (174 of the 48 kHz set; the other eleven move by at most 0.2 %)."""
+    assert main(["benchmark", str(DATA / "cwru48k")]) == 0
+    out = capsys.readouterr().out.splitlines()
+    assert out[1] == "no shaft lines within 5 % of the file's speed: 48k_Drive_End_IR014_0_174.mat"
+    moved = out[0].split("(")[-1]
+    assert out[0].startswith("speed read from the shaft lines: ") and "of 12 records" in out[0]
+    assert all(abs(float(v)) <= 0.2 for v in moved.replace("%)", "").split(" to "))
