@@ -56,7 +56,7 @@ _EXPORTS = {
     "separation": ("Separation", "discrete_random_separation"),
     "spectral": ("psd", "stft", "third_octave"),
     "speed": ("OrderTrack", "ShaftLines", "SpeedEstimate", "estimate_speed", "order_track",
-              "shaft_angle", "shaft_lines", "speed_from_tacho"),
+              "shaft_angle", "shaft_lines", "speed_check", "speed_from_tacho"),
 }  # fmt: skip
 _MODULE_OF = {name: module for module, names in _EXPORTS.items() for name in names}
 

@@ -30,6 +30,8 @@ __all__ = [
 ]
 
 VERDICTS = ("outer", "inner", "ball", "none")
+# A speed moved by the record's shaft lines is reported from this relative change on.
+_SPEED_SHOWN = 5e-4
 
 
 @dataclass(frozen=True)
@@ -177,8 +179,8 @@ def _notes(d, shaft_hz: float) -> list[str]:
     if lines is not None and getattr(d, "domain", "time") == "time":
         if not lines.present:
             notes.append(f"no shaft lines within {100 * lines.tolerance:g} % of the speed")
-        elif abs(change := 100.0 * d.speed_change) >= 0.05:
-            notes.append(f"speed {change:+.1f} % from the shaft lines")
+        elif abs(d.speed_change) >= _SPEED_SHOWN:
+            notes.append(f"speed {100.0 * d.speed_change:+.1f} % from the shaft lines")
     return notes
 
 
@@ -238,7 +240,7 @@ def speed_summary(results: list[BenchmarkResult]) -> str:
     checked = [r for r in results if r.shaft_lines is not None]
     if not checked:
         return ""
-    moved = [r.speed_change for r in checked if abs(r.speed_change) >= 5e-4]
+    moved = [r.speed_change for r in checked if abs(r.speed_change) >= _SPEED_SHOWN]
     span = ""
     if moved:
         lo, hi = 100.0 * min(moved), 100.0 * max(moved)

@@ -108,7 +108,7 @@ from diagnostics.envelope import envelope
 from diagnostics.frequencies import BearingGeometry, FaultFrequencies, bearing_frequencies
 from diagnostics.kurtosis import kurtogram
 from diagnostics.separation import discrete_random_separation
-from diagnostics.speed import ShaftLines, check_speed_profile, order_track, shaft_angle, shaft_lines
+from diagnostics.speed import ShaftLines, check_speed_profile, order_track, shaft_angle, speed_check
 
 __all__ = [
     "FAMILIES",
@@ -958,7 +958,7 @@ def diagnose(
         angular sampling of what was analysed.
     correct_speed : bool
         Check the speed on the record's own shaft harmonics
-        (:func:`diagnostics.speed.shaft_lines`; in orders in the order domain) and analyse
+        (:func:`diagnostics.speed.speed_check`; in orders in the order domain) and analyse
         at their rate: the stronger of the series found within a quarter of ``slip`` of the
         rate given and the one found within 5 % of it. A speed read off a name plate or a
         nominal value can be a few percent off, and the fault combs and shaft masks with
@@ -1039,21 +1039,6 @@ def diagnose(
     return _diagnose_orders(x, fs, geometry, rate, spr, taper, options)
 
 
-def _speed_check(x: np.ndarray, fs: float, shaft_hz: float, slip: float) -> ShaftLines:
-    """The record's shaft series: the stronger of the best near the speed given (within a
-    quarter of the slip) and the best within 5 % of it (the wide one where neither is
-    present).
-
-    Another source's lines can form a series at a rate close to the shaft's: impacts at a
-    third of a neighbouring bearing's BPFO, 1.8 % above the shaft rate, have lines at every
-    multiple of it, and outnumbered six strong shaft harmonics within 5 % (12 harmonics
-    standing against 6) though they are weaker (a strength of 38 against 46). The speed
-    given is kept where its own series is the stronger."""
-    near = shaft_lines(x, fs, shaft_hz, tolerance=_SPEED_NEAR * slip)
-    wide = shaft_lines(x, fs, shaft_hz, tolerance=_SPEED_TOLERANCE)
-    return near if near.present and near.strength >= wide.strength else wide
-
-
 def _diagnose_orders(
     x: np.ndarray,
     fs: float,
@@ -1077,6 +1062,16 @@ def _diagnose_orders(
         band_limited = tracked.x
     d = _diagnose_steady(band_limited, spr, geometry, 1.0, taper=taper, **options)
     return replace(d, domain="order", samples_per_rev=spr)
+
+
+def _fault_rates(geometry: BearingGeometry, shaft_hz: float, slip: float):
+    """``(freqs, fundamentals, f_low, f_high)`` at a shaft rate: the fault frequencies, the
+    comb fundamentals per family, the slowest fundamental and the fastest one plus the slip."""
+    freqs = bearing_frequencies(geometry, shaft_hz)
+    fundamentals = _family_fundamentals(freqs)
+    f_low = min(f0 for f0, _ in fundamentals.values())
+    f_high = max(f0 for f0, _ in fundamentals.values()) * (1.0 + slip)
+    return freqs, fundamentals, f_low, f_high
 
 
 def _diagnose_steady(
@@ -1106,10 +1101,7 @@ def _diagnose_steady(
     alpha = check_positive(alpha, "alpha")
     if alpha >= 1.0:
         raise ValueError(f"alpha must be a probability below 1, got {alpha!r}")
-    freqs = bearing_frequencies(geometry, shaft_hz)
-    fundamentals = _family_fundamentals(freqs)
-    f_low = min(f0 for f0, _ in fundamentals.values())
-    f_high = max(f0 for f0, _ in fundamentals.values()) * (1.0 + slip)
+    freqs, fundamentals, f_low, f_high = _fault_rates(geometry, shaft_hz, slip)
     if 2.0 * f_high >= _USABLE_FRACTION * fs / 2.0:
         raise ValueError(
             f"fs = {fs:g} Hz is too low for these fault frequencies (up to {f_high:.4g} Hz)"
@@ -1123,13 +1115,9 @@ def _diagnose_steady(
             "fault frequency, and the tapers)"
         )
 
-    lines = _speed_check(x, fs, shaft_hz, slip)
+    lines = speed_check(x, fs, shaft_hz, near=_SPEED_NEAR * slip, wide=_SPEED_TOLERANCE)
     if correct_speed and lines.present:
-        shaft_hz = lines.found_hz
-        freqs = bearing_frequencies(geometry, shaft_hz)
-        fundamentals = _family_fundamentals(freqs)
-        f_low = min(f0 for f0, _ in fundamentals.values())
-        f_high = max(f0 for f0, _ in fundamentals.values()) * (1.0 + slip)
+        freqs, fundamentals, f_low, f_high = _fault_rates(geometry, lines.found_hz, slip)
 
     white = prewhiten(x, fs, taper)
     candidates: list[tuple[str, tuple[float, float], float, np.ndarray]] = [

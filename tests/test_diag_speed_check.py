@@ -14,7 +14,7 @@ import pytest
 from diagnostics import diagnose
 from diagnostics.benchmark import find_records, run_benchmark
 from diagnostics.cli import main
-from diagnostics.speed import shaft_lines
+from diagnostics.speed import shaft_lines, speed_check
 
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT / "tests"))
@@ -269,3 +269,16 @@ def test_benchmark_names_the_records_without_shaft_lines(dev_records, capsys):
     moved = out[0].split("(")[-1]
     assert out[0].startswith("speed read from the shaft lines: ") and "of 12 records" in out[0]
     assert all(abs(float(v)) <= 0.2 for v in moved.replace("%)", "").split(" to "))
+
+
+def test_speed_check_weighs_the_near_series_against_the_wide_one():
+    """speed_check, as diagnose uses it: the series at the speed given wins beside impacts
+    near the shaft rate (scenario 20); a speed 3 % off goes to the wide search's series."""
+    _, _, _, _, fs, _, shaft, x = scenario(20)
+    assert speed_check(x, fs, shaft).tolerance == 0.005
+    found = speed_check(outer_record(), FS, 1.03 * SHAFT_HZ)
+    assert found.tolerance == 0.05 and found.found_hz == pytest.approx(SHAFT_HZ, rel=2e-4)
+    with pytest.raises(ValueError, match="near"):
+        speed_check(outer_record(), FS, SHAFT_HZ, near=0.5)
+    with pytest.raises(ValueError, match="wide"):
+        speed_check(outer_record(), FS, SHAFT_HZ, wide=0.0)
