@@ -1,4 +1,5 @@
-"""Spectral kurtosis (Antoni 2006) and the fast kurtogram (Antoni 2007).
+"""Spectral kurtosis (Antoni 2006), the fast kurtogram (Antoni 2007) and the infogram of
+the squared envelope spectrum (Antoni 2016) on the same filter bank.
 
 The fast kurtogram decomposes the signal with a 1/3-binary tree of quasi-analytic FIR filters
 and computes the kurtosis of the complex envelope in every band. It reproduces Antoni's
@@ -15,12 +16,14 @@ demodulation and a remodulation (half the multiplications of a complex filter).
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
+from typing import ClassVar
 
 import numpy as np
 from scipy import signal, stats
 
-from diagnostics._checks import check_positive_int, check_signal, check_signals
+from diagnostics._checks import check_positive, check_positive_int, check_signal, check_signals
 
 _EPS = np.finfo(float).eps
 # Antoni's generating filters: a 16th-order fir1 half-band low-pass (cut-off 0.4 of Nyquist)
@@ -187,6 +190,9 @@ class Kurtogram:
     column: int
     fs: float
 
+    # What the map holds (plots label their colour scale with it).
+    quantity: ClassVar[str] = "kurtosis"
+
     @property
     def band(self) -> tuple[float, float]:
         """Edges ``(fc - bw/2, fc + bw/2)`` of the best band in Hz."""
@@ -196,6 +202,15 @@ class Kurtogram:
     def nlevel(self) -> int:
         """Number of decomposition levels."""
         return self.K.shape[0] // 2
+
+
+@dataclass(frozen=True, eq=False)
+class Infogram(Kurtogram):
+    """Infogram of the squared envelope spectrum (:func:`infogram`): the attributes of
+    :class:`Kurtogram`, with ``K`` holding the spectral negentropy of each band's squared
+    envelope spectrum and ``kurtosis`` the best band's negentropy."""
+
+    quantity: ClassVar[str] = "SES negentropy"
 
 
 def kurtogram_levels(nlevel: int) -> np.ndarray:
@@ -231,52 +246,198 @@ def kurtogram(x, fs: float, nlevel: int = 7) -> Kurtogram:
         On an invalid signal or ``fs``, ``nlevel`` below 1, a signal too short for
         ``nlevel``, or a constant signal.
     """
+    x, nlevel = _tree_input(x, fs, nlevel, "a kurtogram")
+    (K,) = _kurtogram_map(x, nlevel, (_kurtosis_statistic,))
+    return _best_band(K, float(fs), nlevel)
+
+
+def infogram(
+    x, fs: float, nlevel: int = 7, cyclic_range=None, shaft_hz: float | None = None
+) -> Infogram:
+    """Infogram of the squared envelope spectrum: which band holds repetitive transients.
+
+    The kurtogram rewards any impulsiveness, and a few strong impulses at no fault period
+    (a knock, a loose part, electrical spikes) win it over a weaker fault's train. The
+    spectral negentropy of the squared envelope spectrum (Antoni 2016, "The infogram",
+    MSSP 74) rewards lines in the envelope's spectrum instead: isolated impulses give a
+    flat one, which reads like noise. Each band of the fast kurtogram's 1/3-binary tree
+    (same filters) is scored by ``mean(E ln E)``, E being the power of its squared
+    envelope's spectrum over its mean at the cyclic frequencies considered. Random noise
+    reads about 0.44 in every band but the whole one: 1 - 0.5772 (Euler's constant) = 0.42
+    for the exponential values of a flat spectrum, a little more as the filters' passbands
+    tilt it (0.61 in the level-0 band, whose envelope spectrum falls linearly to fs/2).
+
+    Parameters
+    ----------
+    x : array_like
+        1-D real signal; at least ``2**(nlevel + 7)`` samples.
+    fs : float
+        Sampling rate in Hz.
+    nlevel : int
+        Number of binary decomposition levels.
+    cyclic_range : tuple of float, optional
+        ``(low, high)`` cyclic frequencies (Hz) over which the negentropy is taken, e.g. the
+        range a bearing's fault combs cover; default every one but 0.
+    shaft_hz : float, optional
+        Shaft rate whose harmonics (+-2.5 bins) and the cyclic frequencies below half of it
+        are left out: shaft-rate modulation is in every record of a rotating machine.
+
+    Returns
+    -------
+    Infogram
+        The map (``K``, negentropy, same layout as :class:`Kurtogram`) and its best band.
+
+    Raises
+    ------
+    ValueError
+        As :func:`kurtogram`, and on a bad ``cyclic_range`` or ``shaft_hz``.
+
+    Examples
+    --------
+    Impacts every 10 ms ringing at 3 kHz, beside eight stronger impacts at random times
+    ringing at 1 kHz: the kurtogram takes a band only the random ones reach, the infogram
+    the train's.
+
+    >>> fs, n = 12000.0, 2**15
+    >>> rng = np.random.default_rng(1)
+    >>> t = np.arange(240) / fs
+    >>> def ring(f0):
+    ...     return np.exp(-300 * t) * np.sin(2 * np.pi * f0 * t)
+    >>> train = np.zeros(n)
+    >>> train[::120] = 1.0
+    >>> spikes = np.zeros(n)
+    >>> spikes[rng.choice(n - 300, 8, replace=False)] = 8.0
+    >>> x = (np.convolve(train, ring(3000.0))[:n] + np.convolve(spikes, ring(1000.0))[:n]
+    ...      + 0.2 * rng.standard_normal(n))
+    >>> [round(f) for f in kurtogram(x, fs, nlevel=4).band]
+    [375, 750]
+    >>> [round(f) for f in infogram(x, fs, nlevel=4).band]
+    [3000, 3500]
+    """
+    x, nlevel = _tree_input(x, fs, nlevel, "an infogram")
+    statistic = _negentropy_statistic(float(fs), cyclic_range, shaft_hz)
+    (K,) = _kurtogram_map(x, nlevel, (statistic,))
+    return _best_band(K, float(fs), nlevel, Infogram)
+
+
+def kurtogram_and_infogram(
+    x, fs: float, nlevel: int = 7, cyclic_range=None, shaft_hz: float | None = None
+) -> tuple[Kurtogram, Infogram]:
+    """:func:`kurtogram` and :func:`infogram` from one pass of the filter bank (the same
+    results as the two calls, at about two thirds of their cost)."""
+    x, nlevel = _tree_input(x, fs, nlevel, "a kurtogram")
+    statistic = _negentropy_statistic(float(fs), cyclic_range, shaft_hz)
+    K, N = _kurtogram_map(x, nlevel, (_kurtosis_statistic, statistic))
+    return _best_band(K, float(fs), nlevel), _best_band(N, float(fs), nlevel, Infogram)
+
+
+def _tree_input(x, fs: float, nlevel: int, what: str) -> tuple[np.ndarray, int]:
+    """The checked, centred signal and level count of a band map."""
     nlevel = check_positive_int(nlevel, "nlevel")
     x = check_signal(x, fs)
     if x.size < 2 ** (nlevel + 7):
         # The reference's limit: log2(len(x)) - 7 levels at most.
         raise ValueError(
-            f"x is too short for a kurtogram with nlevel={nlevel}: {x.size} samples, need at "
+            f"x is too short for {what} with nlevel={nlevel}: {x.size} samples, need at "
             f"least 2**(nlevel+7) = {2 ** (nlevel + 7)}; lower nlevel"
         )
     x = x - x.mean()
     if not np.any(x):
-        raise ValueError("x is constant: the kurtogram of a signal without variation is undefined")
-    K = _kurtogram_map(x, nlevel)
-    return _best_band(K, float(fs), nlevel)
+        raise ValueError(f"x is constant: {what} of a signal without variation is undefined")
+    return x, nlevel
 
 
-def _kurtogram_map(x: np.ndarray, nlevel: int) -> np.ndarray:
-    """Kurtosis map in the reference's layout (before clipping negatives)."""
+def _kurtogram_map(x: np.ndarray, nlevel: int, statistics) -> list[np.ndarray]:
+    """Maps of band statistics in the reference's layout (before clipping negatives), one
+    per statistic, from one pass of the filter bank.
+
+    ``statistic(rows, decimation)`` gives one value per row of band signals (complex, each
+    decimated by ``decimation`` from ``x``; the level-0 row is ``x`` itself).
+    """
     low, high = _binary_filters()
     n = x.size
     skip_low, skip_high = low.taps.size - 1, high.taps.size - 1
     halves = (_DecimatingFilter(low, 2, n), _DecimatingFilter(high, 2, n, _alternating_sign))
     thirds = [_DecimatingFilter(f, 3, n) for f in _ternary_filters()]
     n_columns = 3 * 2**nlevel
-    K = np.empty((2 * nlevel, n_columns))
-    K[0] = _band_kurtosis(x[None, :])[0]
+    maps = [np.empty((2 * nlevel, n_columns)) for _ in statistics]
+
+    def put(row: int, groups: list[tuple[np.ndarray, int]]) -> None:
+        # Each group is a set of sibling bands; the map's columns interleave them.
+        for K, statistic in zip(maps, statistics, strict=True):
+            values = np.stack([statistic(rows, down) for rows, down in groups], axis=1).ravel()
+            K[row] = np.repeat(values, n_columns // values.size)
+
+    put(0, [(x[None, :], 1)])
     nodes = x[None, :]
     for depth in range(nlevel):
         if depth <= nlevel - 2:
             # Thirds of every band of this depth: level depth + log2(3), row 2 * depth + 2.
-            values = np.stack(
-                [_band_kurtosis(f.apply(nodes)[:, skip_low:]) for f in thirds], axis=1
-            ).ravel()
-            K[2 * depth + 2] = np.repeat(values, n_columns // values.size)
+            put(2 * depth + 2, [(f.apply(nodes)[:, skip_low:], 3 * 2**depth) for f in thirds])
         # Children in tree order (low, high of each parent): the map's column order.
         children = np.empty((2 * nodes.shape[0], nodes.shape[1] // 2), dtype=np.complex128)
         a = halves[0].apply(nodes, out=children[0::2])
         d = halves[1].apply(nodes, out=children[1::2])
-        values = np.stack(
-            [_band_kurtosis(a[:, skip_low:]), _band_kurtosis(d[:, skip_high:])], axis=1
-        ).ravel()
-        K[2 * depth + 1] = np.repeat(values, n_columns // values.size)
+        down = 2 ** (depth + 1)
+        put(2 * depth + 1, [(a[:, skip_low:], down), (d[:, skip_high:], down)])
         nodes = children
-    return K
+    return maps
 
 
-def _best_band(K: np.ndarray, fs: float, nlevel: int) -> Kurtogram:
+def _kurtosis_statistic(rows: np.ndarray, decimation: int) -> np.ndarray:
+    return _band_kurtosis(rows)
+
+
+# Fewer cyclic frequencies than this leave a band's negentropy unscored (0).
+_MIN_CYCLIC_BINS = 10
+
+
+def _negentropy_statistic(fs: float, cyclic_range, shaft_hz: float | None):
+    """The band statistic of :func:`infogram`: spectral negentropy of the squared envelope
+    spectrum over ``cyclic_range``, shaft harmonics left out."""
+    fs = check_positive(fs, "fs", unit=" in Hz")
+    low, high = 0.0, math.inf
+    if cyclic_range is not None:
+        try:
+            low, high = (float(v) for v in cyclic_range)
+        except (TypeError, ValueError):
+            raise ValueError(
+                f"cyclic_range must be a pair (low, high) in Hz, got {cyclic_range!r}"
+            ) from None
+        if not 0.0 <= low < high:
+            raise ValueError(f"cyclic_range must satisfy 0 <= low < high, got {cyclic_range!r}")
+    if shaft_hz is not None:
+        shaft_hz = check_positive(shaft_hz, "shaft_hz", unit=" in Hz")
+
+    def statistic(rows: np.ndarray, decimation: int) -> np.ndarray:
+        if np.iscomplexobj(rows):
+            sq = np.square(rows.view(np.float64))
+            se = sq[:, 0::2] + sq[:, 1::2]
+        else:  # the whole band: its analytic signal's envelope
+            se = np.abs(signal.hilbert(rows, axis=1)) ** 2
+        # Hann-windowed: a strong line (the shaft rate's) leaks far into a rectangular
+        # window's spectrum, and its leakage would read as order beyond its masked bins.
+        window = signal.get_window("hann", se.shape[1], fftbins=True)
+        centred = (se - se.mean(axis=1, keepdims=True)) * window
+        power = np.abs(np.fft.rfft(centred, axis=1)) ** 2
+        alpha = np.fft.rfftfreq(se.shape[1], d=decimation / fs)
+        keep = (alpha >= low) & (alpha <= high) & (alpha > 0.0)
+        if shaft_hz is not None:
+            step = alpha[1] - alpha[0]
+            nearest = np.round(alpha / shaft_hz) * shaft_hz
+            keep &= (np.abs(alpha - nearest) > 2.5 * step) & (alpha >= 0.5 * shaft_hz)
+        if np.count_nonzero(keep) < _MIN_CYCLIC_BINS:
+            return np.zeros(rows.shape[0])
+        e = power[:, keep]
+        mean = e.mean(axis=1, keepdims=True)
+        e = e / np.where(mean > 0.0, mean, 1.0)
+        with np.errstate(divide="ignore"):
+            return np.where(e > 0.0, e * np.log(e), 0.0).mean(axis=1)
+
+    return statistic
+
+
+def _best_band(K: np.ndarray, fs: float, nlevel: int, cls=None) -> Kurtogram:
     K = np.where(K > 0, K, 0.0)
     levels = kurtogram_levels(nlevel)
     columns = np.arange(K.shape[1])
@@ -288,7 +449,7 @@ def _best_band(K: np.ndarray, fs: float, nlevel: int) -> Kurtogram:
     row = int(row_of_max[column])
     level = float(levels[row])
     fi = column / 3.0 / 2 ** (nlevel + 1) + 2.0 ** (-2.0 - level)
-    return Kurtogram(
+    return (Kurtogram if cls is None else cls)(
         K=K,
         levels=levels,
         freqs=freqs,

@@ -155,7 +155,8 @@ def plot_spectral_kurtosis(
 def plot_kurtogram(kg: Kurtogram, ax: Axes | None = None) -> Figure:
     """Fast kurtogram map as Antoni draws it: frequency on x, level on y (0 at the top).
 
-    Each row is one decomposition level; the best band is outlined.
+    Each row is one decomposition level; the best band is outlined. An
+    :class:`~diagnostics.kurtosis.Infogram` is drawn the same way, its negentropy in colour.
     """
     fig, ax = _axes(ax, figsize=(8.0, 5.0))
     K = np.asarray(kg.K, dtype=float)
@@ -168,7 +169,7 @@ def plot_kurtogram(kg: Kurtogram, ax: Axes | None = None) -> Figure:
         interpolation="nearest",
         extent=(0.0, kg.fs / 2.0, n_rows - 0.5, -0.5),
     )
-    fig.colorbar(image, ax=ax, label="kurtosis")
+    fig.colorbar(image, ax=ax, label=kg.quantity)
     ax.set_yticks(np.arange(n_rows))
     ax.set_yticklabels([f"{lv:.1f}" for lv in levels])
     lo, hi = kg.band
@@ -176,9 +177,10 @@ def plot_kurtogram(kg: Kurtogram, ax: Axes | None = None) -> Figure:
     ax.plot([lo, hi, hi, lo, lo], [row - 0.5, row - 0.5, row + 0.5, row + 0.5, row - 0.5], "w-")
     ax.set_xlabel("frequency (Hz)")
     ax.set_ylabel("level k")
+    name = "Infogram (squared envelope spectrum)" if kg.quantity != "kurtosis" else "Fast kurtogram"
     ax.set_title(
-        f"Fast kurtogram: best band {kg.fc:.0f} Hz +- {kg.bw / 2:.0f} Hz, "
-        f"level {kg.level:.1f}, kurtosis {kg.kurtosis:.2f}"
+        f"{name}: best band {kg.fc:.0f} Hz +- {kg.bw / 2:.0f} Hz, "
+        f"level {kg.level:.1f}, {kg.quantity} {kg.kurtosis:.2f}"
     )
     return fig
 
