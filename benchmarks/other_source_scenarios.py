@@ -45,12 +45,17 @@ def impacts(rng, fs: float, n: int, rate: float, resonance: float, weight) -> np
     seconds = n / fs
     times = np.cumsum((1.0 + 0.005 * rng.standard_normal(int(seconds * rate) + 10)) / rate)
     times = times[times < seconds - 0.01]
+    return rings(fs, n, times, resonance, [weight(t) for t in times])
+
+
+def rings(fs: float, n: int, times, resonance: float, sizes) -> np.ndarray:
+    """Decaying resonances struck at ``times`` (s), each scaled by its size."""
     tail = np.arange(int(0.004 * fs)) / fs
     ring = np.exp(-900.0 * tail * resonance / 3500.0) * np.sin(2 * np.pi * resonance * tail)
     x = np.zeros(n)
-    for t in times:
+    for t, size in zip(times, sizes, strict=True):
         i = int(round(t * fs))
-        x[i : i + ring.size] += weight(t) * ring[: n - i]
+        x[i : i + ring.size] += size * ring[: n - i]
     return x
 
 

@@ -205,11 +205,14 @@ def _figures(x, fs: float, d: Diagnosis, notch: list[float], raw, out: Path) -> 
         f"{best.band[1]:.4g} {unit} ({best.name})",
         ylabel="power / local background",
     )
-    kurtogram_figure = plots.plot_kurtogram(d.kurtogram) if d.kurtogram is not None else None
-    if orders:  # envelope spectrum and kurtogram of the order-tracked record
-        envelope_figure.axes[0].set_xlabel("order (cycles per shaft revolution)")
-        if kurtogram_figure is not None:
-            kurtogram_figure.axes[0].set_xlabel("order (cycles per shaft revolution)")
+    band_maps = {
+        name: plots.plot_kurtogram(band_map)
+        for name, band_map in (("kurtogram", d.kurtogram), ("infogram", d.infogram))
+        if band_map is not None
+    }
+    if orders:  # envelope spectrum and band maps of the order-tracked record
+        for figure in (envelope_figure, *band_maps.values()):
+            figure.axes[0].set_xlabel("order (cycles per shaft revolution)")
     written = [
         _save(plots.plot_time_trace(x[:n_show], fs, events), out / "trace.png"),
         _save(plots.plot_spectrogram(x[:n_show], fs, events), out / "spectrogram.png"),
@@ -218,8 +221,7 @@ def _figures(x, fs: float, d: Diagnosis, notch: list[float], raw, out: Path) -> 
         _save(plots.plot_psd_notch(raw, fs, notch), out / "psd_notch.png"),
         _save(plots.plot_third_octave(x, fs), out / "third_octave.png"),
     ]
-    if kurtogram_figure is not None:
-        written.append(_save(kurtogram_figure, out / "kurtogram.png"))
+    written += [_save(figure, out / f"{name}.png") for name, figure in band_maps.items()]
     return written
 
 
@@ -449,15 +451,8 @@ def run_analyze(args: argparse.Namespace) -> int:
             d.frequencies if d.domain == "time" else bearing_frequencies(geometry, rpm / 60.0)
         ).as_dict(),
         "fault_orders": bearing_frequencies(geometry, 1.0).as_dict(),
-        "kurtogram": None
-        if kg is None
-        else {
-            "fc_hz": kg.fc,
-            "bw_hz": kg.bw,
-            "band_hz": list(kg.band),
-            "level": kg.level,
-            "kurtosis": kg.kurtosis,
-        },
+        "kurtogram": _band_map_summary(kg, "kurtosis"),
+        "infogram": _band_map_summary(d.infogram, "negentropy"),
         "verdict": d.fault,
         "confidence": d.confidence,
         "band_hz": list(d.band),
@@ -475,6 +470,19 @@ def run_analyze(args: argparse.Namespace) -> int:
     return 0
 
 
+def _band_map_summary(band_map, value: str) -> dict | None:
+    """A kurtogram's or infogram's best band for summary.json."""
+    if band_map is None:
+        return None
+    return {
+        "fc_hz": band_map.fc,
+        "bw_hz": band_map.bw,
+        "band_hz": list(band_map.band),
+        "level": band_map.level,
+        value: band_map.kurtosis,
+    }
+
+
 def _print_summary(sig, rpm: float, d: Diagnosis, out: Path, n_files: int) -> None:
     f = d.frequencies
     kg = d.kurtogram
@@ -490,11 +498,12 @@ def _print_summary(sig, rpm: float, d: Diagnosis, out: Path, n_files: int) -> No
         f"BSF {f.bsf:.4g} {unit}",
     ]
     lines[1:1] = _speed_check_lines(d, unit)
-    if kg is not None:
-        lines.append(
-            f"kurtogram best band: {kg.band[0]:.4g}-{kg.band[1]:.4g} {unit} "
-            f"(level {kg.level:.1f}, kurtosis {kg.kurtosis:.2f})"
-        )
+    for name, band_map in (("kurtogram", kg), ("infogram", d.infogram)):
+        if band_map is not None:
+            lines.append(
+                f"{name} best band: {band_map.band[0]:.4g}-{band_map.band[1]:.4g} {unit} "
+                f"(level {band_map.level:.1f}, {band_map.quantity} {band_map.kurtosis:.2f})"
+            )
     verdict = "no bearing fault found" if d.fault == "none" else f"{d.fault} fault"
     lines += [
         f"verdict: {verdict} (confidence {d.confidence:.2f}; "

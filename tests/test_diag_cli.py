@@ -19,6 +19,7 @@ BEARING = "n=9,d=7.94mm,D=39.04mm,angle=0"
 SUMMARY_KEYS = {
     "fault_frequencies_hz",
     "kurtogram",
+    "infogram",
     "verdict",
     "confidence",
     "scores",
@@ -59,7 +60,13 @@ def test_cli_outer_race_record(cwru_dir, tmp_path):
     assert summary["scores"]["outer"] > summary["scores"]["inner"]
     for name in summary["figures"]:
         assert (out / name).stat().st_size > 1000
-    assert {"kurtogram.png", "envelope_spectrum.png", "spectrogram.png"} <= set(summary["figures"])
+    assert {"kurtogram.png", "infogram.png", "envelope_spectrum.png", "spectrogram.png"} <= set(
+        summary["figures"]
+    )
+    # The band analysed is the infogram's (the record's most repetitive impacts) and lies
+    # within the band map's levels; the printed lines name both maps' best bands.
+    assert summary["infogram"]["negentropy"] > 0.5
+    assert "infogram best band:" in res.stdout and "SES negentropy" in res.stdout
 
 
 @pytest.mark.parametrize(
