@@ -206,7 +206,7 @@ def _figures(x, fs: float, d: Diagnosis, notch: list[float], raw, out: Path) -> 
         ylabel="power / local background",
     )
     band_maps = {
-        name: plots.plot_kurtogram(band_map)
+        name: plots.plot_kurtogram(band_map, used_band=_band_used(d, name))
         for name, band_map in (("kurtogram", d.kurtogram), ("infogram", d.infogram))
         if band_map is not None
     }
@@ -451,8 +451,8 @@ def run_analyze(args: argparse.Namespace) -> int:
             d.frequencies if d.domain == "time" else bearing_frequencies(geometry, rpm / 60.0)
         ).as_dict(),
         "fault_orders": bearing_frequencies(geometry, 1.0).as_dict(),
-        "kurtogram": _band_map_summary(kg, "kurtosis"),
-        "infogram": _band_map_summary(d.infogram, "negentropy"),
+        "kurtogram": _band_map_summary(kg, "kurtosis", _band_used(d, "kurtogram")),
+        "infogram": _band_map_summary(d.infogram, "negentropy", _band_used(d, "infogram")),
         "verdict": d.fault,
         "confidence": d.confidence,
         "band_hz": list(d.band),
@@ -470,8 +470,14 @@ def run_analyze(args: argparse.Namespace) -> int:
     return 0
 
 
-def _band_map_summary(band_map, value: str) -> dict | None:
-    """A kurtogram's or infogram's best band for summary.json."""
+def _band_used(d: Diagnosis, name: str) -> tuple[float, float] | None:
+    """The band diagnose demodulated from the kurtogram or infogram ``name``, if any."""
+    return next((b.band for b in d.bands if b.name == name), None)
+
+
+def _band_map_summary(band_map, value: str, used) -> dict | None:
+    """A kurtogram's or infogram's best band, and the band of it diagnosed (None where
+    diagnose did not take one from it), for summary.json."""
     if band_map is None:
         return None
     return {
@@ -480,6 +486,7 @@ def _band_map_summary(band_map, value: str) -> dict | None:
         "band_hz": list(band_map.band),
         "level": band_map.level,
         value: band_map.kurtosis,
+        "diagnosed_band_hz": None if used is None else list(used),
     }
 
 
@@ -500,9 +507,16 @@ def _print_summary(sig, rpm: float, d: Diagnosis, out: Path, n_files: int) -> No
     lines[1:1] = _speed_check_lines(d, unit)
     for name, band_map in (("kurtogram", kg), ("infogram", d.infogram)):
         if band_map is not None:
+            used = _band_used(d, name)
             lines.append(
                 f"{name} best band: {band_map.band[0]:.4g}-{band_map.band[1]:.4g} {unit} "
                 f"(level {band_map.level:.1f}, {band_map.quantity} {band_map.kurtosis:.2f})"
+                + (
+                    ""
+                    if used is None or used == band_map.band
+                    else f"; diagnosed in {used[0]:.4g}-{used[1]:.4g} {unit}, its best band "
+                    "wide enough for two fault harmonics and above their range"
+                )
             )
     verdict = "no bearing fault found" if d.fault == "none" else f"{d.fault} fault"
     lines += [

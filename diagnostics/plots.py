@@ -8,6 +8,7 @@ Figure and accepts an optional ``ax`` to draw into an existing one. Save with
 
 from __future__ import annotations
 
+import math
 from collections.abc import Mapping, Sequence
 
 import numpy as np
@@ -152,11 +153,16 @@ def plot_spectral_kurtosis(
     return fig
 
 
-def plot_kurtogram(kg: Kurtogram, ax: Axes | None = None) -> Figure:
+def plot_kurtogram(
+    kg: Kurtogram, ax: Axes | None = None, used_band: tuple[float, float] | None = None
+) -> Figure:
     """Fast kurtogram map as Antoni draws it: frequency on x, level on y (0 at the top).
 
     Each row is one decomposition level; the best band is outlined. An
     :class:`~diagnostics.kurtosis.Infogram` is drawn the same way, its negentropy in colour.
+    ``used_band`` (Hz), a band of the map demodulated elsewhere (``diagnose`` takes the
+    best band wide enough for two fault harmonics and above the combs' range), is outlined
+    dashed.
     """
     fig, ax = _axes(ax, figsize=(8.0, 5.0))
     K = np.asarray(kg.K, dtype=float)
@@ -174,7 +180,16 @@ def plot_kurtogram(kg: Kurtogram, ax: Axes | None = None) -> Figure:
     ax.set_yticklabels([f"{lv:.1f}" for lv in levels])
     lo, hi = kg.band
     row = int(np.argmin(np.abs(levels - kg.level)))
-    ax.plot([lo, hi, hi, lo, lo], [row - 0.5, row - 0.5, row + 0.5, row + 0.5, row - 0.5], "w-")
+    box = [row - 0.5, row - 0.5, row + 0.5, row + 0.5, row - 0.5]
+    ax.plot([lo, hi, hi, lo, lo], box, "w-", label="best band")
+    if used_band is not None:
+        lo, hi = used_band
+        # A band of the tree at level k is fs / 2**(k + 1) wide.
+        level = math.log2(kg.fs / 2.0 / (hi - lo))
+        row = int(np.argmin(np.abs(levels - level)))
+        box = [row - 0.5, row - 0.5, row + 0.5, row + 0.5, row - 0.5]
+        ax.plot([lo, hi, hi, lo, lo], box, "w--", label="band diagnosed")
+        ax.legend(loc="lower right", fontsize="small")
     ax.set_xlabel("frequency (Hz)")
     ax.set_ylabel("level k")
     name = "Infogram (squared envelope spectrum)" if kg.quantity != "kurtosis" else "Fast kurtogram"

@@ -67,6 +67,12 @@ def test_cli_outer_race_record(cwru_dir, tmp_path):
     # within the band map's levels; the printed lines name both maps' best bands.
     assert summary["infogram"]["negentropy"] > 0.5
     assert "infogram best band:" in res.stdout and "SES negentropy" in res.stdout
+    # The band diagnose took from the infogram is reported, none from the kurtogram (one
+    # band is taken from the tree).
+    used = summary["infogram"]["diagnosed_band_hz"]
+    assert used is not None and summary["kurtogram"]["diagnosed_band_hz"] is None
+    # wide enough for two harmonics of the fastest fault frequency (80 % of a band usable)
+    assert used[1] - used[0] >= 2 * summary["fault_frequencies_hz"]["bpfi_hz"] / 0.8
 
 
 @pytest.mark.parametrize(
