@@ -192,7 +192,7 @@ def plot_kurtogram(
         ax.legend(loc="lower right", fontsize="small")
     ax.set_xlabel("frequency (Hz)")
     ax.set_ylabel("level k")
-    name = "Infogram (squared envelope spectrum)" if kg.quantity != "kurtosis" else "Fast kurtogram"
+    name = "Infogram" if kg.quantity != "kurtosis" else "Fast kurtogram"
     ax.set_title(
         f"{name}: best band {kg.fc:.0f} Hz +- {kg.bw / 2:.0f} Hz, "
         f"level {kg.level:.1f}, {kg.quantity} {kg.kurtosis:.2f}"

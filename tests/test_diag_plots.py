@@ -91,6 +91,23 @@ def test_kurtogram_map_levels_down_the_y_axis(impacts):
     assert kg.band[0] <= 3000.0 <= kg.band[1]
 
 
+def test_band_map_outlines_the_band_diagnosed(impacts):
+    """A band taken from the map elsewhere is outlined dashed on its own level's row (a
+    band of the tree at level k is fs / 2**(k + 1) wide); the map's best band solid."""
+    x, _ = impacts
+    kg = kurtogram(x, FS, nlevel=5)
+    used = (FS / 8, FS / 4)  # fs / 8 wide: a band of level 2
+    ax = plots.plot_kurtogram(kg, used_band=used).axes[0]
+    dashed = [ln for ln in ax.get_lines() if ln.get_linestyle() == "--"]
+    assert len(dashed) == 1
+    xs, ys = dashed[0].get_data()
+    assert (min(xs), max(xs)) == used
+    row = list(kg.levels).index(2.0)
+    assert (min(ys), max(ys)) == (row - 0.5, row + 0.5)
+    assert "Fast kurtogram" in ax.get_title() and ax.get_legend() is not None
+    assert [ln.get_linestyle() for ln in plots.plot_kurtogram(kg).axes[0].get_lines()] == ["-"]
+
+
 def test_spectrogram_and_trace_mark_events(impacts):
     x, times = impacts
     events = {"impact": times[:5]}
