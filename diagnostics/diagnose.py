@@ -968,7 +968,7 @@ def diagnose(
         left out (:func:`diagnostics.kurtosis.infogram`: the band where the record's repetitive
         impacts show), or the kurtogram's (the most impulsive band, which a few strong
         impacts at no period can win). ``Diagnosis.kurtogram`` holds the kurtogram either
-        way, ``Diagnosis.infogram`` the infogram.
+        way, ``Diagnosis.infogram`` the infogram (None with ``"kurtogram"``).
     use_drs : bool
         Add the kurtogram's best band of the random part of the record after
         discrete/random separation (:func:`diagnostics.separation.discrete_random_separation`).
@@ -1166,8 +1166,11 @@ def _diagnose_steady(
         # too (down to half the cage rate) gained 1 of 40 sub-multiple scenarios but left
         # CWRU 118's band, and verdict, differing between time and orders.
         cyclic = (0.5 * f_low, f_max)
-        kg_white, info = kurtogram_and_infogram(white, fs, levels, cyclic, freqs.shaft)
-        chosen = info if band_selector == "infogram" else kg_white
+        if band_selector == "infogram":
+            kg_white, info = kurtogram_and_infogram(white, fs, levels, cyclic, freqs.shaft)
+            chosen = info
+        else:
+            chosen = kg_white = kurtogram(white, fs, nlevel=levels)
         found = kurtogram_band(chosen, min_bandwidth_hz=bw_min, min_low_hz=f_floor)
         if found is not None:
             candidates.append((band_selector, found[0], found[1], white))

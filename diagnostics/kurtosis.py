@@ -21,6 +21,7 @@ from dataclasses import dataclass
 from typing import ClassVar
 
 import numpy as np
+from scipy import fft as sp_fft
 from scipy import signal, stats
 
 from diagnostics._checks import check_positive, check_positive_int, check_signal, check_signals
@@ -362,18 +363,23 @@ def _kurtogram_map(x: np.ndarray, nlevel: int, statistics) -> list[np.ndarray]:
     n_columns = 3 * 2**nlevel
     maps = [np.empty((2 * nlevel, n_columns)) for _ in statistics]
 
-    def put(row: int, groups: list[tuple[np.ndarray, int]]) -> None:
-        # Each group is a set of sibling bands; the map's columns interleave them.
-        for K, statistic in zip(maps, statistics, strict=True):
-            values = np.stack([statistic(rows, down) for rows, down in groups], axis=1).ravel()
-            K[row] = np.repeat(values, n_columns // values.size)
+    def put(row: int, groups) -> None:
+        # Each group is a set of sibling bands (made one at a time: a generator keeps one
+        # filter output in memory); the map's columns interleave them.
+        values: list[list[np.ndarray]] = [[] for _ in statistics]
+        for rows, down in groups:
+            for out, statistic in zip(values, statistics, strict=True):
+                out.append(statistic(rows, down))
+        for K, out in zip(maps, values, strict=True):
+            flat = np.stack(out, axis=1).ravel()
+            K[row] = np.repeat(flat, n_columns // flat.size)
 
     put(0, [(x[None, :], 1)])
     nodes = x[None, :]
     for depth in range(nlevel):
         if depth <= nlevel - 2:
             # Thirds of every band of this depth: level depth + log2(3), row 2 * depth + 2.
-            put(2 * depth + 2, [(f.apply(nodes)[:, skip_low:], 3 * 2**depth) for f in thirds])
+            put(2 * depth + 2, ((f.apply(nodes)[:, skip_low:], 3 * 2**depth) for f in thirds))
         # Children in tree order (low, high of each parent): the map's column order.
         children = np.empty((2 * nodes.shape[0], nodes.shape[1] // 2), dtype=np.complex128)
         a = halves[0].apply(nodes, out=children[0::2])
@@ -409,18 +415,11 @@ def _negentropy_statistic(fs: float, cyclic_range, shaft_hz: float | None):
     if shaft_hz is not None:
         shaft_hz = check_positive(shaft_hz, "shaft_hz", unit=" in Hz")
 
+    windows: dict[int, np.ndarray] = {}
+
     def statistic(rows: np.ndarray, decimation: int) -> np.ndarray:
-        if np.iscomplexobj(rows):
-            sq = np.square(rows.view(np.float64))
-            se = sq[:, 0::2] + sq[:, 1::2]
-        else:  # the whole band: its analytic signal's envelope
-            se = np.abs(signal.hilbert(rows, axis=1)) ** 2
-        # Hann-windowed: a strong line (the shaft rate's) leaks far into a rectangular
-        # window's spectrum, and its leakage would read as order beyond its masked bins.
-        window = signal.get_window("hann", se.shape[1], fftbins=True)
-        centred = (se - se.mean(axis=1, keepdims=True)) * window
-        power = np.abs(np.fft.rfft(centred, axis=1)) ** 2
-        alpha = np.fft.rfftfreq(se.shape[1], d=decimation / fs)
+        n = rows.shape[1]
+        alpha = np.fft.rfftfreq(n, d=decimation / fs)
         keep = (alpha >= low) & (alpha <= high) & (alpha > 0.0)
         if shaft_hz is not None:
             step = alpha[1] - alpha[0]
@@ -428,6 +427,17 @@ def _negentropy_statistic(fs: float, cyclic_range, shaft_hz: float | None):
             keep &= (np.abs(alpha - nearest) > 2.5 * step) & (alpha >= 0.5 * shaft_hz)
         if np.count_nonzero(keep) < _MIN_CYCLIC_BINS:
             return np.zeros(rows.shape[0])
+        if np.iscomplexobj(rows):
+            sq = np.square(rows.view(np.float64))
+            se = sq[:, 0::2] + sq[:, 1::2]
+        else:  # the whole band: its analytic signal's envelope
+            se = np.abs(signal.hilbert(rows, axis=1)) ** 2
+        # Hann-windowed: a strong line (the shaft rate's) leaks far into a rectangular
+        # window's spectrum, and its leakage would read as order beyond its masked bins.
+        if n not in windows:
+            windows[n] = signal.get_window("hann", n, fftbins=True)
+        centred = (se - se.mean(axis=1, keepdims=True)) * windows[n]
+        power = np.abs(sp_fft.rfft(centred, axis=1, workers=-1)) ** 2
         e = power[:, keep]
         mean = e.mean(axis=1, keepdims=True)
         e = e / np.where(mean > 0.0, mean, 1.0)
