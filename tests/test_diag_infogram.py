@@ -152,3 +152,31 @@ def test_band_selector_is_checked():
     assert diagnose(x, FS, CWRU_DRIVE_END, 29.95, band_selector="kurtogram").bands[-1].name == (
         "kurtogram"
     )
+
+
+def test_records_with_random_impacts_script(tmp_path, capsys):
+    """benchmarks/records_with_random_impacts.py on a folder of one CWRU-named synthetic
+    outer-race record, two draws of random impacts 5-15 times its standard deviation: the
+    infogram's band names the fault at least once and as often as the kurtogram's, neither
+    names another; a folder without records is refused."""
+    from records_with_random_impacts import main as records_main
+    from test_diag_benchmark import _cwru_file, _impacts
+
+    from diagnostics import bearing_frequencies
+    from diagnostics.datasets import CWRU_DRIVE_END
+
+    folder = tmp_path / "cwru"
+    folder.mkdir()
+    shaft, n = 1797 / 60.0, int(2 * FS)
+    x = _impacts(FS, bearing_frequencies(CWRU_DRIVE_END, shaft).bpfo, 2.0, 1)
+    noise = np.random.default_rng(5).standard_normal(n)
+    _cwru_file(folder, "12k_Drive_End_OR007@6_0_130.mat", 130, x, noise, rpm=1797)
+    assert records_main([str(folder), "--draws", "2"]) == 0
+    out = capsys.readouterr().out.splitlines()
+    assert "labelled fault named (2)" in out[-4]
+    rows = {r.split("|")[1].strip(): [int(v) for v in r.split("|")[2:4]] for r in out[-2:]}
+    assert rows["infogram"][0] >= max(1, rows["kurtogram"][0])
+    assert rows["infogram"][1] == rows["kurtogram"][1] == 0
+    for bad in ([str(tmp_path / "nothing")], [str(folder), "--draws", "0"]):
+        with pytest.raises(SystemExit):
+            records_main(bad)
