@@ -1159,14 +1159,14 @@ def _diagnose_steady(
     f_floor = (n_harmonics + 1) * f_high
     f_max = (n_harmonics + 1) * f_high + freqs.shaft
     if use_kurtogram and levels >= 1:
-        # The band whose squared envelope holds the most lines over the combs' range,
-        # shaft harmonics aside (the infogram); the kurtogram, shown beside it, takes the
-        # most impulsive band, which a few strong impacts at no period can win.
-        # From half the slowest race or spin fault frequency: counting the cage-rate range
-        # too (down to half the cage rate) gained 1 of 40 sub-multiple scenarios but left
-        # CWRU 118's band, and verdict, differing between time and orders.
-        cyclic = (0.5 * f_low, f_max)
         if band_selector == "infogram":
+            # The band whose squared envelope holds the most lines over the race and spin
+            # combs' range (from half the slowest fault frequency), shaft harmonics aside;
+            # the kurtogram, shown beside it, takes the most impulsive band, which a few
+            # strong impacts at no period can win. Down to half the cage rate instead:
+            # 1 more of 40 sub-multiple scenarios, but CWRU 118's band, and verdict, then
+            # differed between time and orders.
+            cyclic = (0.5 * f_low, f_max)
             kg_white, info = kurtogram_and_infogram(white, fs, levels, cyclic, freqs.shaft)
             chosen = info
         else:
