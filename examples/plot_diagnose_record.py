@@ -59,9 +59,10 @@ plt.show()
 # %%
 # The diagnosis
 # -------------
-# Inside: cepstral prewhitening, the fast kurtogram's most impulsive band, the squared
-# envelope spectrum normalised by its background, and a harmonic comb per fault family
-# tested against a false-alarm probability of 1e-4 (see the theory pages).
+# Inside: cepstral prewhitening, the band of the infogram whose envelope holds the most
+# lines (beside the whole band), the squared envelope spectrum normalised by its
+# background, and a harmonic comb per fault family tested against a false-alarm
+# probability of 1e-4 (see the theory pages).
 d = dg.diagnose(x, fs, geometry, shaft_hz)
 print(f"fault: {d.fault}, confidence {d.confidence:.2f}, band {d.band[0]:.0f}-{d.band[1]:.0f} Hz")
 print({family: round(score, 1) for family, score in d.scores.items()})
