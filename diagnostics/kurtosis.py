@@ -324,8 +324,9 @@ def infogram(
 def kurtogram_and_infogram(
     x, fs: float, nlevel: int = 7, cyclic_range=None, shaft_hz: float | None = None
 ) -> tuple[Kurtogram, Infogram]:
-    """:func:`kurtogram` and :func:`infogram` from one pass of the filter bank (the same
-    results as the two calls, at about two thirds of their cost)."""
+    """:func:`kurtogram` and :func:`infogram` from one pass of the filter bank: the same
+    results as the two calls, in 0.71 of their time (10 s at 48 kHz, nlevel 7: 0.35 s
+    against 0.49 s on a 2-core machine, alternated best of 6)."""
     x, nlevel = _tree_input(x, fs, nlevel, "a kurtogram")
     statistic = _negentropy_statistic(float(fs), cyclic_range, shaft_hz)
     K, N = _kurtogram_map(x, nlevel, (_kurtosis_statistic, statistic))
