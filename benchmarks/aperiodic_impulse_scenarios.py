@@ -34,7 +34,13 @@ ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 sys.path.insert(0, str(ROOT / "benchmarks"))
 
-from other_source_scenarios import BEARINGS, FAULTS, impacts, rings  # noqa: E402
+from other_source_scenarios import (  # noqa: E402
+    BEARINGS,
+    FAULTS,
+    base_record,
+    fault_impacts,
+    rings,
+)
 
 from diagnostics import bearing_frequencies, diagnose  # noqa: E402
 
@@ -58,18 +64,11 @@ def scenario(seed: int) -> tuple[str, str, float, object, float, np.ndarray]:
     n = int(rng.uniform(2.0, 8.0) * fs)
     own = bearing_frequencies(geometry, shaft)
     fault = str(rng.choice(FAULTS)) if seed % 2 else "none"
-    t = np.arange(n) / fs
-    x = rng.standard_normal(n)
-    x += sum(2.0 / m * np.cos(2 * np.pi * m * shaft * t) for m in range(1, 7))
+    x = base_record(rng, fs, n, shaft)
     strength = float(rng.uniform(1.5, 3.0))
     resonance = float(rng.uniform(0.1, 0.3)) * fs
     if fault != "none":
-        rate = {"outer": own.bpfo, "inner": own.bpfi, "ball": 2.0 * own.bsf}[fault]
-        mod = {"outer": 0.0, "inner": own.shaft, "ball": own.ftf}[fault]
-        x += impacts(
-            rng, fs, n, rate * rng.uniform(0.99, 1.0), resonance,
-            lambda s: strength * (1.0 + 0.8 * math.cos(2 * math.pi * mod * s)),
-        )  # fmt: skip
+        x += fault_impacts(rng, fs, n, own, fault, strength, resonance)
     per_second = float(math.exp(rng.uniform(math.log(2.0), math.log(30.0))))
     size = float(rng.uniform(3.0, 20.0))
     # The random impacts ring elsewhere than the fault (below it where above would fold).
@@ -94,15 +93,7 @@ def weak_scenario(seed: int, size: float) -> tuple[str, float, object, float, np
     n = int(rng.uniform(3.0, 8.0) * fs)
     own = bearing_frequencies(geometry, shaft)
     fault = FAULTS[(seed // 4) % 3]
-    t = np.arange(n) / fs
-    x = rng.standard_normal(n)
-    x += sum(2.0 / m * np.cos(2 * np.pi * m * shaft * t) for m in range(1, 7))
-    rate = {"outer": own.bpfo, "inner": own.bpfi, "ball": 2.0 * own.bsf}[fault]
-    mod = {"outer": 0.0, "inner": own.shaft, "ball": own.ftf}[fault]
-    x += impacts(
-        rng, fs, n, rate * rng.uniform(0.99, 1.0), float(rng.uniform(0.1, 0.3)) * fs,
-        lambda s: size * (1.0 + 0.8 * math.cos(2 * math.pi * mod * s)),
-    )  # fmt: skip
+    x = base_record(rng, fs, n, shaft) + fault_impacts(rng, fs, n, own, fault, size)
     return fault, fs, geometry, shaft, x
 
 

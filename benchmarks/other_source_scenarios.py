@@ -59,6 +59,28 @@ def rings(fs: float, n: int, times, resonance: float, sizes) -> np.ndarray:
     return x
 
 
+def base_record(rng, fs: float, n: int, shaft: float) -> np.ndarray:
+    """Unit noise and six shaft harmonics: what every scenario's record starts from."""
+    t = np.arange(n) / fs
+    x = rng.standard_normal(n)
+    return x + sum(2.0 / m * np.cos(2 * np.pi * m * shaft * t) for m in range(1, 7))
+
+
+def fault_impacts(rng, fs: float, n: int, own, fault: str, size: float, resonance=None):
+    """A fault's impact train: at its fault frequency less 0-1 % (slip), ``size`` times a
+    unit impact, modulated 80 % at the rate a turning fault passes the load zone (none for
+    the outer race); ringing ``resonance`` Hz, drawn at 0.1-0.3 fs where not given."""
+    rate = {"outer": own.bpfo, "inner": own.bpfi, "ball": 2.0 * own.bsf}[fault]
+    mod = {"outer": 0.0, "inner": own.shaft, "ball": own.ftf}[fault]
+    rate *= rng.uniform(0.99, 1.0)
+    if resonance is None:
+        resonance = float(rng.uniform(0.1, 0.3)) * fs
+    return impacts(
+        rng, fs, n, rate, resonance,
+        lambda s: size * (1.0 + 0.8 * math.cos(2 * math.pi * mod * s)),
+    )  # fmt: skip
+
+
 def other_rate(rng, kind: str, shaft: float, own, other) -> float:
     """Rate (Hz) of the other source."""
     if kind == "other bearing":
@@ -84,17 +106,10 @@ def scenario(seed: int) -> tuple[str, str, str, str, float, object, float, np.nd
     own = bearing_frequencies(geometry, shaft)
     fault = str(rng.choice(FAULTS)) if seed % 2 else "none"
     kind = KINDS[(seed // 2) % len(KINDS)]
-    t = np.arange(n) / fs
-    x = rng.standard_normal(n)
-    x += sum(2.0 / m * np.cos(2 * np.pi * m * shaft * t) for m in range(1, 7))
+    x = base_record(rng, fs, n, shaft)
     strength = float(rng.uniform(2.0, 4.0))
     if fault != "none":
-        rate = {"outer": own.bpfo, "inner": own.bpfi, "ball": 2.0 * own.bsf}[fault]
-        mod = {"outer": 0.0, "inner": own.shaft, "ball": own.ftf}[fault]
-        x += impacts(
-            rng, fs, n, rate * rng.uniform(0.99, 1.0), float(rng.uniform(0.1, 0.3)) * fs,
-            lambda s: strength * (1.0 + 0.8 * math.cos(2 * math.pi * mod * s)),
-        )  # fmt: skip
+        x += fault_impacts(rng, fs, n, own, fault, strength)
     rate = other_rate(rng, kind, shaft, own, bearing_frequencies(neighbour, shaft))
     factor = float(rng.uniform(1.0, 4.0))
     x += impacts(
