@@ -252,6 +252,7 @@ def _family_summary(d: Diagnosis) -> dict:
             "evidence": s.evidence,
             "sideband_hz": s.sideband_hz,
             "n_sidebands_significant": s.n_sidebands_significant,
+            "sideband_pair_p": s.sideband_pair_p,
             "slower_period": s.slower_period,
         }
     return out

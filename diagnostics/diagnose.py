@@ -51,11 +51,20 @@ Method (Randall and Antoni 2011; Smith and Randall 2015, the CWRU benchmark):
    135, shows such lines at 0.02-0.05 of its BPFO series). For 2 BSF thirds and odd
    quarters are tested, not halves (its half is BSF, where a damaged ball strikes one race
    harder than the other), and the cage-rate comb not at all (lines at half the cage rate
-   show in measured records of all three faults, CWRU 189, 250, 262). ``alpha_pair`` is
-   ``alpha`` divided by the number of harmonic pairs, families and candidate bands (union
-   bound), so that a fault-free record is called faulty with probability at most ``alpha``
-   (1e-4 by default): the healthy threshold comes from that false-alarm probability, not
-   from example records.
+   show in measured records of all three faults, CWRU 189, 250, 262). The rolling
+   elements' 2 x BSF comb has a second kind of pair: a harmonic and the stronger of its two
+   cage-rate sidebands (``FamilyScore.sideband_pair_p``), judged by the same rule with the
+   sideband's p-value at most ``8 exp(-z)`` (four bins a side, the better side). The cage
+   carries a damaged ball in and out of the load zone, so its impacts come with cage-rate
+   sidebands; where a narrow band or a weak record holds a single harmonic, the line and
+   its sideband still mark the fault. A side stronger than its line is no sideband of it,
+   and where the record's shaft lines do not confirm the speed the line must stand clear
+   of every shaft harmonic by the slip tolerance. The inner race's shaft-rate sidebands
+   do not pair: any source turning with the shaft has them. ``alpha_pair`` is ``alpha``
+   divided by the number of tests (harmonic pairs, and harmonics with their sideband for
+   2 x BSF), families and candidate bands (union bound), so that a fault-free record is
+   called faulty with probability at most ``alpha`` (1e-4 by default): the healthy
+   threshold comes from that false-alarm probability, not from example records.
    Significance alone grows with the record length: a long enough record makes even the
    few-percent ball-pass modulation of a healthy loaded bearing (varying compliance)
    significant (the CWRU baseline record 97 shows 1.5 % at BPFO and 1.2 % at 2 BPFO, which
@@ -145,6 +154,10 @@ _SHAFT_MASK_BINS = 2.5
 _USABLE_FRACTION = 0.8
 # A harmonic supports a detection when its own p-value is at most this.
 _SUPPORT_P = 0.01
+# A harmonic and its sideband make a detecting pair where the sideband stands at least this
+# many bins from the line (its four bins then clear the line's two).
+_SIDEBAND_MIN_BINS = 3.0
+_SIDEBAND_PAIR_FAMILIES = ("ball",)
 # Lines between a comb's harmonics mark a slower period where their series is at least
 # this share of the comb's (_slower_period).
 _SLOWER_SHARE = 0.25
@@ -206,7 +219,8 @@ class FamilyScore:
         unless a harmonic that would tell the comb from one at that multiple was masked.
     detected : bool
         ``pair_p <= alpha_pair``, both lines supporting, and a supporting line modulating
-        the squared envelope by at least ``min_modulation``.
+        the squared envelope by at least ``min_modulation``; or the same of a harmonic and
+        its own modulation sideband (``sideband_pair_p``).
     near_miss : float
         In [0, 1]: how close the family came to detection on a log-probability scale
         (1 when detected). A comb set aside as a slower period (``slower_period``) came as
@@ -219,6 +233,14 @@ class FamilyScore:
     n_sidebands_significant : int
         Sidebands whose p-value (a bin either side of the expected offset) is at most
         ``sqrt(alpha_pair)``.
+    sideband_pair_p : float
+        Joint p-value (Fisher's product) of a harmonic and the stronger of its two
+        sidebands, for the harmonic that came closest to detection with its sideband (both
+        supporting, the pair within ``alpha_pair``, the harmonic modulating the squared
+        envelope by at least ``min_modulation``); 1.0 for the combs that have no such pair
+        (all but 2 x BSF). The cage carries a damaged ball through the load zone: where a
+        band is too narrow, or a record too weak, for a second harmonic, a line and its
+        cage-rate sideband are the pair.
     resolution_hz : float
         Bin spacing of the squared envelope spectrum.
     comb : str
@@ -250,6 +272,7 @@ class FamilyScore:
     sideband_hz: float = 0.0
     sideband_z: np.ndarray = field(default_factory=lambda: np.zeros((2, 0)), repr=False)
     n_sidebands_significant: int = 0
+    sideband_pair_p: float = 1.0
     resolution_hz: float = 0.0
     comb: str = ""
     slower_period: int = 0
@@ -590,6 +613,65 @@ def _detects(
     return bool(pair_p <= alpha_pair and p2 <= _SUPPORT_P and strongest >= min_modulation)
 
 
+def _sideband_pairs(family: str, sideband_hz: float) -> bool:
+    """Whether a comb's harmonic and its sideband are a detecting pair: for the rolling
+    elements' 2 x BSF comb, whose impacts the cage modulates. (An inner race's shaft-rate
+    sidebands are not: any source turning with the shaft has them; with them, the
+    fan-end channel of CWRU 262, a healthy bearing, read inner from lines at shaft
+    spacing.)"""
+    return family in _SIDEBAND_PAIR_FAMILIES and sideband_hz > 0.0
+
+
+def _off_shaft(lines_hz: np.ndarray, shaft_hz: float, tolerance: float) -> np.ndarray:
+    """Lines farther than ``tolerance`` (a share of their frequency) from every shaft
+    harmonic. A harmonic paired with its sideband is one line of the comb: where the speed
+    is not confirmed by the record's own shaft lines, the shaft harmonic masked may be off
+    by the slip tolerance, and a shaft harmonic next to the line could be that line (on the
+    CWRU fan-end bearing 2 x BSF is 3.99 times the shaft rate)."""
+    if tolerance <= 0.0 or shaft_hz <= 0.0:
+        return np.ones(lines_hz.shape, dtype=bool)
+    nearest = np.maximum(np.round(lines_hz / shaft_hz), 1.0) * shaft_hz
+    return np.abs(lines_hz - nearest) > tolerance * lines_hz
+
+
+def _sideband_p(
+    sideband_z: np.ndarray, line_z: np.ndarray, explained: np.ndarray | None = None
+) -> np.ndarray:
+    """p-value of the stronger sideband of each harmonic: each side the largest of four
+    bins (its line between two, and a bin either side), the better side of two, so at most
+    ``8 exp(-z)``. A side stronger than its harmonic (``line_z``) is no sideband of it:
+    amplitude modulation by a window that is nowhere negative (the load zone passing with
+    the cage) leaves each sideband at most as strong as the line. A side in ``explained``
+    (2 x K) counts as absent too."""
+    absent = sideband_z > line_z[None, :]
+    if explained is not None:
+        absent |= explained
+    p_side = np.where(absent, 1.0, np.minimum(1.0, 4.0 * np.exp(-sideband_z)))
+    return np.minimum(1.0, 2.0 * p_side.min(axis=0, initial=1.0))
+
+
+def _sideband_closeness(
+    p: np.ndarray, p_sb: np.ndarray, depth: np.ndarray, alpha_pair: float, min_modulation: float
+) -> tuple[float, float]:
+    """``(closeness, joint_p)`` of a comb's best harmonic-and-sideband pair: closeness on
+    the scale of :func:`_detects`'s rule (1 or more: detected; the joint p-value against
+    ``alpha_pair``, each p-value against the support level, the harmonic's modulation depth
+    against ``min_modulation``, the weakest of the four), 0.0 and 1.0 where none."""
+    if p.size == 0 or p_sb.size != p.size:
+        return 0.0, 1.0
+    joint = np.array([_pair_tail(c) for c in p * p_sb])
+    close = np.minimum.reduce(
+        [
+            np.log(np.maximum(joint, 1e-300)) / math.log(alpha_pair),
+            np.log(np.maximum(p, 1e-300)) / math.log(_SUPPORT_P),
+            np.log(np.maximum(p_sb, 1e-300)) / math.log(_SUPPORT_P),
+            depth / min_modulation,
+        ]
+    )
+    i = int(np.argmax(close))
+    return float(close[i]), float(joint[i])
+
+
 def _slower_period(
     z_masked: np.ndarray,
     m: np.ndarray,
@@ -646,6 +728,8 @@ def _score_family(
     band: tuple[float, float],
     sideband_hz: float,
     slower: tuple[int, ...] = (2, 3),
+    shaft_hz: float = 0.0,
+    shaft_tolerance: float = 0.0,
 ) -> FamilyScore:
     df = f[1] - f[0]
     k = np.arange(1, n_harm + 1)
@@ -675,16 +759,7 @@ def _score_family(
         math.log(max(p2, 1e-300)) / math.log(_SUPPORT_P),
         strongest / min_modulation,
     )
-    # Only a detected comb can turn out to be a slower train's: it is then no near miss of
-    # this fault in proportion as the in-between lines are strong.
-    period, ratio = (0, 0.0)
-    if detected:
-        period, ratio = _slower_period(
-            z_masked, m, df, fc, zk, n_harm, alpha_pair, min_modulation, slower
-        )
-    if period:
-        detected = False
-        closeness = min(closeness, _SLOWER_SHARE / ratio)
+    sb, n_sb, sb_pair_p = np.zeros((2, 0)), 0, 1.0
     if sideband_hz > 0.0:
         # Sidebands sit at a fixed offset from the found line; allow a bin either side.
         offsets = np.array([-sideband_hz, sideband_hz])
@@ -696,9 +771,25 @@ def _score_family(
             ]
         )
         n_sb = int((4.0 * np.exp(-sb) <= math.sqrt(alpha_pair)).sum())
-    else:
-        sb = np.zeros((2, 0))
-        n_sb = 0
+        # A line and its own sideband as the pair, where the sideband's four bins clear the
+        # line's two (an offset of three bins or more).
+        if _sideband_pairs(family, sideband_hz) and sideband_hz >= _SIDEBAND_MIN_BINS * df:
+            single = observed & _off_shaft(k * fc, shaft_hz, shaft_tolerance)
+            sb_close, sb_pair_p = _sideband_closeness(
+                np.where(single, p, 1.0), _sideband_p(sb, zk), depth, alpha_pair, min_modulation
+            )
+            detected = detected or sb_close >= 1.0
+            closeness = max(closeness, sb_close)
+    # Only a detected comb can turn out to be a slower train's: it is then no near miss of
+    # this fault in proportion as the in-between lines are strong.
+    period, ratio = (0, 0.0)
+    if detected:
+        period, ratio = _slower_period(
+            z_masked, m, df, fc, zk, n_harm, alpha_pair, min_modulation, slower
+        )
+    if period:
+        detected = False
+        closeness = min(closeness, _SLOWER_SHARE / ratio)
     return FamilyScore(
         family=family,
         band=band,
@@ -717,6 +808,7 @@ def _score_family(
         sideband_hz=sideband_hz,
         sideband_z=sb,
         n_sidebands_significant=n_sb,
+        sideband_pair_p=sb_pair_p,
         resolution_hz=df,
         slower_period=period,
     )
@@ -750,7 +842,12 @@ def _unique_evidence(score: FamilyScore, others: list[FamilyScore], shaft_hz: fl
 
 
 def _holds_apart(
-    s: FamilyScore, b: BandScore, shaft_hz: float, alpha_pair: float, min_modulation: float
+    s: FamilyScore,
+    b: BandScore,
+    shaft_hz: float,
+    alpha_pair: float,
+    min_modulation: float,
+    shaft_tolerance: float = 0.0,
 ) -> bool:
     """Whether a family's detection holds on the lines that the band's other series (its
     harmonics and their first two shaft-rate sidebands) does not explain."""
@@ -765,8 +862,17 @@ def _holds_apart(
     p = np.where(explained, 1.0, s.p_values)
     lo = np.clip(np.floor(s.lines_hz / df).astype(int), 0, b.f.size - 2)
     masked = _shaft_mask(b.f, shaft_hz)
-    evidence = _pair_evidence(p, ~(masked[lo] & masked[lo + 1]), s.modulation)
-    return _detects(*evidence, alpha_pair, min_modulation)
+    observed = ~(masked[lo] & masked[lo + 1])
+    evidence = _pair_evidence(p, observed, s.modulation)
+    if _detects(*evidence, alpha_pair, min_modulation):
+        return True
+    if not _sideband_pairs(s.family, s.sideband_hz) or s.sideband_hz < _SIDEBAND_MIN_BINS * df:
+        return False
+    sides = s.lines_hz[None, :] + np.array([-s.sideband_hz, s.sideband_hz])[:, None]
+    off = np.min(np.abs(sides[..., None] - lattice[None, None, :]), axis=-1)
+    p_sb = _sideband_p(s.sideband_z, s.z, off <= 2.0 * df + _LINE_SPREAD * sides)
+    p = np.where(observed & _off_shaft(s.lines_hz, shaft_hz, shaft_tolerance), p, 1.0)
+    return _sideband_closeness(p, p_sb, s.modulation, alpha_pair, min_modulation)[0] >= 1.0
 
 
 def series_strength(z: np.ndarray):
@@ -1183,10 +1289,17 @@ def _diagnose_steady(
                 candidates.append(("drs-kurtogram", found[0], found[1], separated))
 
     combs = _combs(freqs, fundamentals, x.size / fs)
-    n_tests = len(combs) * len(candidates)
-    pairs = math.comb(n_harmonics, 2)
-    alpha_pair = alpha / (n_tests * pairs)
+    # Union bound over the tests of every candidate band: each comb's pairs of harmonics,
+    # and each harmonic with its sideband where that is a detecting pair.
+    per_band = sum(
+        math.comb(n_harmonics, 2) + (n_harmonics if _sideband_pairs(fam, sb) else 0)
+        for fam, _, sb in combs.values()
+    )
+    alpha_pair = alpha / (len(candidates) * per_band)
     half_window = _BACKGROUND_FRACTION * f_low
+    # Shaft harmonics stand where the masks put them once the record's own lines confirm
+    # the speed; otherwise anywhere within the slip tolerance.
+    shaft_tolerance = 0.0 if (correct_speed and lines.present) else slip
 
     bands: list[BandScore] = []
     for name, band, kurt, y in candidates:
@@ -1214,6 +1327,8 @@ def _diagnose_steady(
                 band,
                 sb_hz,
                 _SLOWER.get(comb, (2, 3)),
+                freqs.shaft,
+                shaft_tolerance,
             )
             scores[comb] = replace(score, comb=comb)
         other = _other_series_scan(
@@ -1240,7 +1355,9 @@ def _diagnose_steady(
         # its detection holds on lines that series does not explain.
         if share(s) >= 1.0:
             return True
-        return _holds_apart(s, by_band[s.band], freqs.shaft, alpha_pair, min_modulation)
+        return _holds_apart(
+            s, by_band[s.band], freqs.shaft, alpha_pair, min_modulation, shaft_tolerance
+        )
 
     best: dict[str, FamilyScore | None] = {}
     for family in FAMILIES:
