@@ -525,6 +525,13 @@ def _print_summary(sig, rpm: float, d: Diagnosis, out: Path, n_files: int) -> No
         f"band {d.band[0]:.4g}-{d.band[1]:.4g} {unit})",
         "scores: " + "  ".join(f"{k} {v:.0f}" for k, v in d.scores.items()),
     ]
+    named = d.families.get(d.fault)
+    if named is not None and named.detected and named.sideband_pair_p < named.pair_p:
+        lines.append(
+            f"evidence: a {named.comb} line and its cage-rate sideband ({named.sideband_hz:.4g} "
+            f"{unit} away; joint p {named.sideband_pair_p:.2g}, the best pair of harmonics "
+            f"{named.pair_p:.2g})"
+        )
     for family, s in d.families.items():
         if s is not None and s.slower_period:
             rate = s.found_hz / s.slower_period

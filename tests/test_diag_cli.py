@@ -133,6 +133,28 @@ def test_cli_names_a_slower_train(tmp_path, capsys):
     assert f"not named: inner ({expected}" in capsys.readouterr().out
 
 
+def test_cli_says_a_ball_was_named_by_a_line_and_its_sideband(tmp_path, capsys):
+    """One line at 2 x BSF with a weaker one a cage rate below: the verdict is ball, and the
+    printed evidence says it rests on the line and its sideband, not a pair of harmonics."""
+    sys.path.insert(0, str(ROOT / "tests"))
+    from test_diag_sidebands import modulated_noise
+
+    from diagnostics.datasets import CWRU_DRIVE_END
+    from diagnostics.frequencies import bearing_frequencies
+
+    f = bearing_frequencies(CWRU_DRIVE_END, 1797.0 / 60.0)
+    path = tmp_path / "ball.npz"
+    np.savez(path, x=modulated_noise({2 * f.bsf: 0.15, 2 * f.bsf - f.ftf: 0.05}), fs=12000.0)
+    out = tmp_path / "b"
+    args = ["analyze", str(path), "--rpm", "1797", "--bearing", BEARING, "--out", str(out)]
+    assert main(args) == 0
+    summary = json.loads((out / "summary.json").read_text())
+    ball = summary["families"]["ball"]
+    assert summary["verdict"] == "ball" and ball["sideband_pair_p"] < ball["pair_p"]
+    printed = capsys.readouterr().out
+    assert f"evidence: a 2xBSF line and its cage-rate sideband ({f.ftf:.4g} Hz away" in printed
+
+
 def test_cli_notch_and_rpm_override(tmp_path, capsys):
     # A CSV without speed: --rpm is required and used; --notch is recorded.
     fs = 12000.0
