@@ -16,7 +16,8 @@ times the fault's resonance.
 
 A second table gives weak faults with no other source (``--weak`` records per size, the
 same draws at each size): an outer-race, inner-race or ball fault whose impacts are 0.6 to
-1.3 times the noise's standard deviation, 3-8 s, 12 or 48 kHz, either bearing. Usage::
+1.3 times the noise's standard deviation, 3-8 s, 12 or 48 kHz, either bearing; a third
+the same per fault type. Usage::
 
     python benchmarks/aperiodic_impulse_scenarios.py [--scenarios 60] [--seed 0] [--weak 24]
 """
@@ -98,11 +99,16 @@ def weak_scenario(seed: int, size: float) -> tuple[str, float, object, float, np
 
 
 def weak_table(records: int) -> list[str]:
-    """Faults named (and other faults named) per impact size and selector."""
+    """Faults named (and other faults named) per impact size and selector, then the faults
+    named per fault type."""
     table = [
         f"| impacts / noise ({records} faults each) | kurtogram: named (wrong) | "
         "infogram: named (wrong) |",
         "|---|---:|---:|",
+    ]
+    by_fault = [
+        "| impacts / noise | band chosen by | " + " | ".join(FAULTS) + " |",
+        "|---|---|" + "---:|" * len(FAULTS),
     ]
     for size in WEAK_SIZES:
         cells = []
@@ -114,8 +120,14 @@ def weak_table(records: int) -> list[str]:
             named = sum(v == f for f, v in verdicts)
             wrong = sum(v not in (f, "none") for f, v in verdicts)
             cells.append(f"{named} ({wrong})")
+            counts = [
+                f"{sum(v == f for f, v in verdicts if f == fault)} of "
+                f"{sum(f == fault for f, _ in verdicts)}"
+                for fault in FAULTS
+            ]
+            by_fault.append(f"| {size:g} | {sel} | " + " | ".join(counts) + " |")
         table.append(f"| {size:g} | {cells[0]} | {cells[1]} |")
-    return table
+    return table + ["", "by fault type"] + by_fault
 
 
 def main(argv=None) -> int:

@@ -125,6 +125,23 @@ def test_scenario_script_prints_both_selectors(capsys):
             scenarios_main(bad)
 
 
+def test_scenario_script_weak_tables_count_each_fault_type():
+    """The weak tables: one fault per draw, so the per-type row of each size and selector
+    counts one record in all, and names it where the first table does."""
+    import aperiodic_impulse_scenarios
+
+    lines = aperiodic_impulse_scenarios.weak_table(1)
+    fault = weak_scenario(0, 1.0)[0]
+    assert lines[lines.index("by fault type") + 1].startswith("| impacts / noise | band chosen")
+    rows = [line for line in lines if line.startswith("| 1.3 |")]
+    named = [int(cell.split()[0]) for cell in rows[0].split("|")[2:4]]  # kurtogram, infogram
+    for selector, count in zip(("kurtogram", "infogram"), named, strict=True):
+        row = next(r for r in rows if f"| {selector} |" in r)
+        cells = dict(zip(("outer", "inner", "ball"), row.split("|")[3:6], strict=True))
+        assert cells[fault].strip() == f"{count} of 1"
+        assert all(cells[f].strip() == "0 of 0" for f in cells if f != fault)
+
+
 def test_weak_faults_are_named_more_often_from_the_infograms_band():
     """Faults alone, impacts as strong as the noise (the script's weak table, its first 8
     draws: both bearings, 12 and 48 kHz, outer, inner, ball): the infogram's band holds the
