@@ -613,13 +613,32 @@ def _detects(
     return bool(pair_p <= alpha_pair and p2 <= _SUPPORT_P and strongest >= min_modulation)
 
 
-def _sideband_pairs(family: str, sideband_hz: float) -> bool:
+def _closeness(
+    joint_p: float, weaker_p: float, depth: float, alpha_pair: float, min_modulation: float
+) -> float:
+    """How close a pair came to :func:`_detects`'s rule on a log-probability scale (1 or
+    more: detected): the weakest of the joint p-value against ``alpha_pair``, the weaker
+    line's p-value against the support level and the modulation depth against
+    ``min_modulation``."""
+    return min(
+        math.log(max(joint_p, 1e-300)) / math.log(alpha_pair),
+        math.log(max(weaker_p, 1e-300)) / math.log(_SUPPORT_P),
+        depth / min_modulation,
+    )
+
+
+def _sideband_pairs(family: str, sideband_hz: float, df: float = 0.0) -> bool:
     """Whether a comb's harmonic and its sideband are a detecting pair: for the rolling
-    elements' 2 x BSF comb, whose impacts the cage modulates. (An inner race's shaft-rate
-    sidebands are not: any source turning with the shaft has them; with them, the
-    fan-end channel of CWRU 262, a healthy bearing, read inner from lines at shaft
+    elements' 2 x BSF comb, whose impacts the cage modulates, where the sideband stands
+    ``_SIDEBAND_MIN_BINS`` bins of ``df`` Hz or more from its line. (An inner race's
+    shaft-rate sidebands are not: any source turning with the shaft has them; with them,
+    the fan-end channel of CWRU 262, a healthy bearing, read inner from lines at shaft
     spacing.)"""
-    return family in _SIDEBAND_PAIR_FAMILIES and sideband_hz > 0.0
+    return (
+        family in _SIDEBAND_PAIR_FAMILIES
+        and sideband_hz > 0.0
+        and sideband_hz >= _SIDEBAND_MIN_BINS * df
+    )
 
 
 def _off_shaft(lines_hz: np.ndarray, shaft_hz: float, tolerance: float) -> np.ndarray:
@@ -653,21 +672,15 @@ def _sideband_p(
 def _sideband_closeness(
     p: np.ndarray, p_sb: np.ndarray, depth: np.ndarray, alpha_pair: float, min_modulation: float
 ) -> tuple[float, float]:
-    """``(closeness, joint_p)`` of a comb's best harmonic-and-sideband pair: closeness on
-    the scale of :func:`_detects`'s rule (1 or more: detected; the joint p-value against
-    ``alpha_pair``, each p-value against the support level, the harmonic's modulation depth
-    against ``min_modulation``, the weakest of the four), 0.0 and 1.0 where none."""
+    """``(closeness, joint_p)`` of a comb's best harmonic-and-sideband pair (:func:`_closeness`,
+    the harmonic's modulation depth as the pair's), 0.0 and 1.0 where none."""
     if p.size == 0 or p_sb.size != p.size:
         return 0.0, 1.0
-    joint = np.array([_pair_tail(c) for c in p * p_sb])
-    close = np.minimum.reduce(
-        [
-            np.log(np.maximum(joint, 1e-300)) / math.log(alpha_pair),
-            np.log(np.maximum(p, 1e-300)) / math.log(_SUPPORT_P),
-            np.log(np.maximum(p_sb, 1e-300)) / math.log(_SUPPORT_P),
-            depth / min_modulation,
-        ]
-    )
+    joint = [_pair_tail(a * b) for a, b in zip(p, p_sb, strict=True)]
+    close = [
+        _closeness(j, max(a, b), d, alpha_pair, min_modulation)
+        for j, a, b, d in zip(joint, p, p_sb, depth, strict=True)
+    ]
     i = int(np.argmax(close))
     return float(close[i]), float(joint[i])
 
@@ -754,11 +767,7 @@ def _score_family(
     depth = np.hypot(m[lo], m[lo + 1])
     pair_p, p2, strongest = _pair_evidence(p, observed, depth)
     detected = _detects(pair_p, p2, strongest, alpha_pair, min_modulation)
-    closeness = min(
-        math.log(max(pair_p, 1e-300)) / math.log(alpha_pair),
-        math.log(max(p2, 1e-300)) / math.log(_SUPPORT_P),
-        strongest / min_modulation,
-    )
+    closeness = _closeness(pair_p, p2, strongest, alpha_pair, min_modulation)
     sb, n_sb, sb_pair_p = np.zeros((2, 0)), 0, 1.0
     if sideband_hz > 0.0:
         # Sidebands sit at a fixed offset from the found line; allow a bin either side.
@@ -771,9 +780,7 @@ def _score_family(
             ]
         )
         n_sb = int((4.0 * np.exp(-sb) <= math.sqrt(alpha_pair)).sum())
-        # A line and its own sideband as the pair, where the sideband's four bins clear the
-        # line's two (an offset of three bins or more).
-        if _sideband_pairs(family, sideband_hz) and sideband_hz >= _SIDEBAND_MIN_BINS * df:
+        if _sideband_pairs(family, sideband_hz, df):
             single = observed & _off_shaft(k * fc, shaft_hz, shaft_tolerance)
             sb_close, sb_pair_p = _sideband_closeness(
                 np.where(single, p, 1.0), _sideband_p(sb, zk), depth, alpha_pair, min_modulation
@@ -866,7 +873,7 @@ def _holds_apart(
     evidence = _pair_evidence(p, observed, s.modulation)
     if _detects(*evidence, alpha_pair, min_modulation):
         return True
-    if not _sideband_pairs(s.family, s.sideband_hz) or s.sideband_hz < _SIDEBAND_MIN_BINS * df:
+    if not _sideband_pairs(s.family, s.sideband_hz, df):
         return False
     sides = s.lines_hz[None, :] + np.array([-s.sideband_hz, s.sideband_hz])[:, None]
     off = np.min(np.abs(sides[..., None] - lattice[None, None, :]), axis=-1)
