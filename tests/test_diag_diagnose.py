@@ -358,14 +358,14 @@ def test_fault_beside_a_stronger_unrelated_series_is_named(seed):
     """A second impact train at 6.3 shaft orders (no fault frequency of this bearing), as
     strong as the outer-race impacts and four times stronger (sixteen times the power): its
     harmonics and sidebands do not make the outer-race lines, so the fault is named and
-    the other series reported."""
+    the other series found (in its band; the fault may be named from another)."""
     fs = 12000.0
     fault = fault_signal(fs, FREQS.bpfo, 3000.0, amplitude=3.0, seed=seed)
     for amplitude in (3.0, 12.0):
         other = fault_signal(fs, 6.3 * SHAFT_HZ, 4500.0, amplitude=amplitude, seed=seed + 100)
         d = diagnose(fault + other, fs, GEOMETRY, SHAFT_HZ)
         assert d.fault == "outer" and d.dominated == ()
-        assert d.other_series[0] == pytest.approx(6.3 * SHAFT_HZ, rel=0.005)
+        assert any(b.other_hz == pytest.approx(6.3 * SHAFT_HZ, rel=0.005) for b in d.bands)
 
 
 def test_healthy_bearing_beside_another_impact_train_is_healthy():

@@ -17,6 +17,7 @@ from aperiodic_impulse_scenarios import main as scenarios_main  # noqa: E402
 from aperiodic_impulse_scenarios import scenario, weak_scenario  # noqa: E402
 
 FS = 12000.0
+DATA = Path(__file__).resolve().parents[2] / "shared" / "data"
 
 
 def _rings(n: int, times: np.ndarray, resonance: float, size) -> np.ndarray:
@@ -165,10 +166,48 @@ def test_band_selector_is_checked():
     with pytest.raises(ValueError, match="band_selector"):
         diagnose(x, FS, CWRU_DRIVE_END, 29.95, band_selector="spectral")
     d = diagnose(x, FS, CWRU_DRIVE_END, 29.95)
-    assert isinstance(d.infogram, Infogram) and d.bands[-1].name == "infogram"
-    assert diagnose(x, FS, CWRU_DRIVE_END, 29.95, band_selector="kurtogram").bands[-1].name == (
-        "kurtogram"
+    assert isinstance(d.infogram, Infogram)
+    assert [b.name for b in d.bands] == ["prewhitened", "infogram", "infogram, second"]
+    kurtogram_bands = diagnose(x, FS, CWRU_DRIVE_END, 29.95, band_selector="kurtogram").bands
+    assert [b.name for b in kurtogram_bands] == ["prewhitened", "kurtogram"]
+
+
+def test_best_band_apart_from_another():
+    """kurtogram_band(..., apart_from=band): the best of the bands that do not overlap the
+    one given, under the same width and low-edge limits (below the best of all)."""
+    from diagnostics.diagnose import kurtogram_band
+
+    rng = np.random.default_rng(4)
+    n = 2**15
+    x = _rings(n, np.arange(0, n - 240, 97), 2600.0, 1.0) + _rings(
+        n, np.arange(0, n - 240, 131), 4300.0, 0.8
     )
+    ig = infogram(x + 0.3 * rng.standard_normal(n), FS, nlevel=4, cyclic_range=(20.0, 600.0))
+    first, _ = kurtogram_band(ig, 300.0, 500.0)
+    second, value = kurtogram_band(ig, 300.0, 500.0, apart_from=first)
+    assert second[1] <= first[0] or second[0] >= first[1]
+    bws = FS / 2.0 / 2.0 ** np.asarray(ig.levels)
+    lows = np.floor(np.asarray(ig.freqs)[None, :] / bws[:, None]) * bws[:, None]
+    eligible = (bws[:, None] >= 300.0) & (lows >= 500.0)
+    apart = (lows + bws[:, None] <= first[0]) | (lows >= first[1])
+    assert value == pytest.approx(ig.K[eligible & apart].max())
+    assert value < ig.K[eligible].max()
+
+
+@pytest.mark.parametrize("seed", [13, 39])
+def test_the_infograms_second_band_holds_the_fault(seed):
+    """Aperiodic scenarios 13 (an inner-race fault beside impacts at random times 18 times
+    as strong) and 39 (a ball fault beside 25 such impacts a second): the random impacts
+    take the infogram's best band by a little, and neither it nor the whole band shows any
+    fault; the fault is named from the infogram's best band apart from that one."""
+    fault, _, fs, geometry, shaft, x = scenario(seed)
+    d = diagnose(x, fs, geometry, shaft)
+    bands = {b.name: b for b in d.bands}
+    first, second = bands["infogram"].band, bands["infogram, second"].band
+    assert second[1] <= first[0] or second[0] >= first[1]
+    assert d.fault == fault and d.band == second
+    for name in ("prewhitened", "infogram"):
+        assert not any(s is not None and s.detected for s in bands[name].families.values())
 
 
 def test_records_with_random_impacts_script(tmp_path, capsys):
@@ -197,3 +236,27 @@ def test_records_with_random_impacts_script(tmp_path, capsys):
     for bad in ([str(tmp_path / "nothing")], [str(folder), "--draws", "0"]):
         with pytest.raises(SystemExit):
             records_main(bad)
+
+
+@pytest.mark.skipif(not (DATA / "cwru").is_dir(), reason="../shared/data not present")
+def test_faults_on_measured_backgrounds_script(capsys):
+    """benchmarks/faults_on_measured_backgrounds.py on the five CWRU development records of
+    cwru/: six healthy bearings' channels (the fan-end channel of each drive-end fault
+    record, both channels of the baseline), at 12 kHz; each reads none as measured, and a
+    fault of each type with impacts as strong as the channel's standard deviation is named
+    on every one. Of cwru48k/, the five fan-end channels that copy the drive end's are
+    left out."""
+    from faults_on_measured_backgrounds import backgrounds
+    from faults_on_measured_backgrounds import main as backgrounds_main
+
+    found = list(backgrounds([DATA / "cwru"], 12000.0))
+    assert sorted(end for _, end, *_ in found) == ["drive"] + ["fan"] * 5
+    assert {fs for _, _, fs, *_ in found} == {12000.0}
+    assert backgrounds_main([str(DATA / "cwru"), "--sizes", "1", "--draws", "1"]) == 0
+    out = capsys.readouterr().out
+    assert "drive-end bearing, 1 backgrounds: 1 read none" in out
+    assert "fan-end bearing, 5 backgrounds: 5 read none" in out
+    assert "| 1 | 1 of 1 (0) | 1 of 1 (0) | 1 of 1 (0) |" in out
+    assert "| 1 | 5 of 5 (0) | 5 of 5 (0) | 5 of 5 (0) |" in out
+    if (DATA / "cwru48k").is_dir():
+        assert len(list(backgrounds([DATA / "cwru48k"], 0.0))) == 12 - 5
