@@ -206,7 +206,9 @@ def _figures(x, fs: float, d: Diagnosis, notch: list[float], raw, out: Path) -> 
         ylabel="power / local background",
     )
     band_maps = {
-        name: plots.plot_kurtogram(band_map, used_band=_band_used(d, name))
+        name: plots.plot_kurtogram(
+            band_map, used_band=_band_used(d, name), second_band=_band_used(d, f"{name}, second")
+        )
         for name, band_map in (("kurtogram", d.kurtogram), ("infogram", d.infogram))
         if band_map is not None
     }
@@ -453,7 +455,9 @@ def run_analyze(args: argparse.Namespace) -> int:
         ).as_dict(),
         "fault_orders": bearing_frequencies(geometry, 1.0).as_dict(),
         "kurtogram": _band_map_summary(kg, "kurtosis", _band_used(d, "kurtogram")),
-        "infogram": _band_map_summary(d.infogram, "negentropy", _band_used(d, "infogram")),
+        "infogram": _band_map_summary(
+            d.infogram, "negentropy", _band_used(d, "infogram"), _band_used(d, "infogram, second")
+        ),
         "verdict": d.fault,
         "confidence": d.confidence,
         "band_hz": list(d.band),
@@ -476,12 +480,12 @@ def _band_used(d: Diagnosis, name: str) -> tuple[float, float] | None:
     return next((b.band for b in d.bands if b.name == name), None)
 
 
-def _band_map_summary(band_map, value: str, used) -> dict | None:
+def _band_map_summary(band_map, value: str, used, second=None) -> dict | None:
     """A kurtogram's or infogram's best band, and the band of it diagnosed (None where
-    diagnose did not take one from it), for summary.json."""
+    diagnose did not take one from it), with the infogram's second band, for summary.json."""
     if band_map is None:
         return None
-    return {
+    summary = {
         "fc_hz": band_map.fc,
         "bw_hz": band_map.bw,
         "band_hz": list(band_map.band),
@@ -489,6 +493,9 @@ def _band_map_summary(band_map, value: str, used) -> dict | None:
         value: band_map.kurtosis,
         "diagnosed_band_hz": None if used is None else list(used),
     }
+    if band_map.quantity != "kurtosis":
+        summary["second_band_hz"] = None if second is None else list(second)
+    return summary
 
 
 def _print_summary(sig, rpm: float, d: Diagnosis, out: Path, n_files: int) -> None:
@@ -519,6 +526,12 @@ def _print_summary(sig, rpm: float, d: Diagnosis, out: Path, n_files: int) -> No
                     "wide enough for two fault harmonics and above their range"
                 )
             )
+            second = _band_used(d, f"{name}, second")
+            if second is not None:
+                lines[-1] += (
+                    f"; also in {second[0]:.4g}-{second[1]:.4g} {unit}, the best band of "
+                    "that kind that does not overlap it"
+                )
     verdict = "no bearing fault found" if d.fault == "none" else f"{d.fault} fault"
     lines += [
         f"verdict: {verdict} (confidence {d.confidence:.2f}; "

@@ -154,7 +154,10 @@ def plot_spectral_kurtosis(
 
 
 def plot_kurtogram(
-    kg: Kurtogram, ax: Axes | None = None, used_band: tuple[float, float] | None = None
+    kg: Kurtogram,
+    ax: Axes | None = None,
+    used_band: tuple[float, float] | None = None,
+    second_band: tuple[float, float] | None = None,
 ) -> Figure:
     """Fast kurtogram map as Antoni draws it: frequency on x, level on y (0 at the top).
 
@@ -162,7 +165,8 @@ def plot_kurtogram(
     :class:`~diagnostics.kurtosis.Infogram` is drawn the same way, its negentropy in colour.
     ``used_band`` (Hz), a band of the map demodulated elsewhere (``diagnose`` takes the
     best band wide enough for two fault harmonics and above the combs' range), is outlined
-    dashed.
+    dashed; ``second_band`` (the infogram's best band apart from that one, which
+    ``diagnose`` demodulates too) dotted.
     """
     fig, ax = _axes(ax, figsize=(8.0, 5.0))
     K = np.asarray(kg.K, dtype=float)
@@ -182,13 +186,17 @@ def plot_kurtogram(
     row = int(np.argmin(np.abs(levels - kg.level)))
     box = [row - 0.5, row - 0.5, row + 0.5, row + 0.5, row - 0.5]
     ax.plot([lo, hi, hi, lo, lo], box, "w-", label="best band")
-    if used_band is not None:
-        lo, hi = used_band
+    marked = [(used_band, "w--", "band diagnosed"), (second_band, "w:", "second band diagnosed")]
+    for band, style, label in marked:
+        if band is None:
+            continue
+        lo, hi = band
         # A band of the tree at level k is fs / 2**(k + 1) wide.
         level = math.log2(kg.fs / 2.0 / (hi - lo))
         row = int(np.argmin(np.abs(levels - level)))
         box = [row - 0.5, row - 0.5, row + 0.5, row + 0.5, row - 0.5]
-        ax.plot([lo, hi, hi, lo, lo], box, "w--", label="band diagnosed")
+        ax.plot([lo, hi, hi, lo, lo], box, style, label=label)
+    if used_band is not None or second_band is not None:
         ax.legend(loc="lower right", fontsize="small")
     ax.set_xlabel("frequency (Hz)")
     ax.set_ylabel("level k")

@@ -73,6 +73,12 @@ def test_cli_outer_race_record(cwru_dir, tmp_path):
     assert used is not None and summary["kurtogram"]["diagnosed_band_hz"] is None
     # wide enough for two harmonics of the fastest fault frequency (80 % of a band usable)
     assert used[1] - used[0] >= 2 * summary["fault_frequencies_hz"]["bpfi_hz"] / 0.8
+    # and the infogram's second band, of the same kind, apart from it
+    second = summary["infogram"]["second_band_hz"]
+    assert second[1] - second[0] >= 2 * summary["fault_frequencies_hz"]["bpfi_hz"] / 0.8
+    assert second[1] <= used[0] or second[0] >= used[1]
+    assert f"also in {second[0]:.4g}-{second[1]:.4g} Hz" in res.stdout
+    assert "second_band_hz" not in summary["kurtogram"]
 
 
 @pytest.mark.parametrize(

@@ -106,6 +106,14 @@ def test_band_map_outlines_the_band_diagnosed(impacts):
     assert (min(ys), max(ys)) == (row - 0.5, row + 0.5)
     assert "Fast kurtogram" in ax.get_title() and ax.get_legend() is not None
     assert [ln.get_linestyle() for ln in plots.plot_kurtogram(kg).axes[0].get_lines()] == ["-"]
+    # A second band (the infogram's best apart from the first) dotted, on its own row.
+    second = (FS / 32, 2 * FS / 32)  # fs / 32 wide: level 4
+    ax = plots.plot_kurtogram(kg, used_band=used, second_band=second).axes[0]
+    styles = [ln.get_linestyle() for ln in ax.get_lines()]
+    assert styles == ["-", "--", ":"]
+    xs, ys = ax.get_lines()[2].get_data()
+    row = list(kg.levels).index(4.0)
+    assert (min(xs), max(xs)) == second and (min(ys), max(ys)) == (row - 0.5, row + 0.5)
 
 
 def test_spectrogram_and_trace_mark_events(impacts):
