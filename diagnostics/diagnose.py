@@ -833,6 +833,11 @@ def _unique_evidence(score: FamilyScore, others: list[FamilyScore], shaft_hz: fl
     shaft-rate sidebands (k f0 +- j fr, j <= 2: a fault modulated by the turning shaft).
     With 9 balls and d/D = 0.2, BPFO - 2 fr falls within 0.5 % of 4 FTF, a line of the
     cage-rate series: an outer-race fault explains it. A shared line is evidence for neither.
+    But a sideband is no stronger than its carrier (amplitude modulation by a window nowhere
+    negative), so a line stronger than the other comb's tested harmonic in the same band is
+    not that harmonic's sideband: on the CWRU fan-end bearing BPFI - fr lies 1 % below
+    2 x BSF, and an inner-race fault's lines would otherwise all be the ball comb's
+    sidebands.
     """
     keep = score.z > score.threshold
     for other in others:
@@ -845,8 +850,16 @@ def _unique_evidence(score: FamilyScore, others: list[FamilyScore], shaft_hz: fl
         harmonics = other.found_hz * np.arange(1, reach + 1)
         lines = (harmonics[:, None] + offsets[None, :]).ravel()
         tol = 2.0 * max(score.resolution_hz, other.resolution_hz)
-        distance = np.min(np.abs(score.lines_hz[:, None] - lines[None, :]), axis=1)
-        keep &= distance > tol
+        near = np.abs(score.lines_hz[:, None] - lines[None, :]) <= tol
+        if other.band == score.band:
+            # A sideband of a tested harmonic in the same band is no stronger than that
+            # harmonic (amplitude modulation by a window nowhere negative): a line stronger
+            # than the carrier is not its sideband.
+            k = np.repeat(np.arange(reach), offsets.size)
+            side = np.tile(offsets != 0.0, reach)
+            carrier = np.where(k < other.z.size, other.z[np.minimum(k, other.z.size - 1)], np.inf)
+            near &= ~(side & (score.z[:, None] > carrier[None, :]))
+        keep &= ~near.any(axis=1)
     return float(score.z[keep].sum())
 
 

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import sys
+from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
@@ -10,7 +11,7 @@ import pytest
 
 from diagnostics import diagnose
 from diagnostics.datasets import CWRU_DRIVE_END, CWRU_FAN_END
-from diagnostics.diagnose import _off_shaft, _sideband_p
+from diagnostics.diagnose import FamilyScore, _off_shaft, _sideband_p, _unique_evidence
 from diagnostics.frequencies import bearing_frequencies
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "benchmarks"))
@@ -108,3 +109,32 @@ def test_weak_ball_faults_gain_from_the_sideband_pair():
         d = diagnose(x, fs, geometry, shaft)
         ball = d.families["ball"]
         assert (fault, d.fault, ball.comb, ball.n_significant) == ("ball", "ball", "2xBSF", 1)
+
+
+def _comb(family, comb, lines_hz, z, band=(2000.0, 2500.0)):
+    lines_hz, z = np.asarray(lines_hz, dtype=float), np.asarray(z, dtype=float)
+    return FamilyScore(
+        family=family, band=band, expected_hz=lines_hz[0], found_hz=lines_hz[0],
+        lines_hz=lines_hz, z=z, threshold=np.full(z.size, 6.0),
+        n_significant=int((z > 6.0).sum()), evidence=float(z[z > 6.0].sum()),
+        resolution_hz=0.2, comb=comb,
+    )  # fmt: skip
+
+
+def test_a_line_stronger_than_a_carrier_is_not_its_sideband():
+    """On the CWRU fan-end bearing BPFI - fr lies 1 % below 2 x BSF, so an inner-race fault's
+    first lower sideband falls in the ball comb's window and the ball comb's shaft
+    sidebands on the inner race's lines: the two combs explain each other's lines. (The
+    fan-end channel of 109 with an inner-race fault added, faults_on_measured_backgrounds:
+    BPFI 147.7 and 295.4 Hz at 163 and 50 times their background; the ball comb at 117.7
+    Hz, 44.5, 3 and 19.3.) A sideband is no stronger than its carrier: the inner race's
+    lines are not the ball comb's sidebands and keep their evidence, while the ball comb's
+    first line, weaker than the inner race's, is its sideband; in another band the rule
+    does not apply (the values are not comparable)."""
+    shaft = 29.93
+    inner = _comb("inner", "BPFI", [147.68, 295.36], [163.3, 50.2])
+    ball = _comb("ball", "2xBSF", [117.67, 235.34, 353.01], [44.5, 3.0, 19.3])
+    assert _unique_evidence(inner, [ball], shaft) == pytest.approx(163.3 + 50.2)
+    assert _unique_evidence(ball, [inner], shaft) == pytest.approx(19.3)
+    elsewhere = replace(ball, band=(3000.0, 3500.0))
+    assert _unique_evidence(inner, [elsewhere], shaft) == 0.0
