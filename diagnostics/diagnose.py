@@ -855,9 +855,11 @@ def _unique_evidence(score: FamilyScore, others: list[FamilyScore], shaft_hz: fl
             # A sideband of a tested harmonic in the same band is no stronger than that
             # harmonic (amplitude modulation by a window nowhere negative): a line stronger
             # than the carrier is not its sideband.
-            k = np.repeat(np.arange(reach), offsets.size)
+            # (Harmonics beyond those tested have no measured strength: no limit.)
+            strength = np.full(reach, np.inf)
+            strength[: other.z.size] = other.z
+            carrier = np.repeat(strength, offsets.size)
             side = np.tile(offsets != 0.0, reach)
-            carrier = np.where(k < other.z.size, other.z[np.minimum(k, other.z.size - 1)], np.inf)
             near &= ~(side & (score.z[:, None] > carrier[None, :]))
         keep &= ~near.any(axis=1)
     return float(score.z[keep].sum())
