@@ -236,8 +236,8 @@ def test_development_mfpt_and_baseline(development_results):
 
 
 def test_development_cwru_counts_do_not_fall_back(development_results):
-    # Measured at the commit that added the cage-rate series (see README): a change that
-    # names fewer of these records than that is a regression.
+    # Measured at the commit that added the cage-rate series (docs/results/diagnostics): a
+    # change that names fewer of these records than that is a regression.
     assert _count(development_results, "CWRU 48k", "outer")[0] >= 6
     assert _count(development_results, "CWRU 48k", "inner")[0] >= 2
     assert _count(development_results, "CWRU 48k", "ball")[0] >= 1
@@ -246,12 +246,12 @@ def test_development_cwru_counts_do_not_fall_back(development_results):
 
 
 def test_development_other_bearing_false_alarms_do_not_grow():
-    """The healthy bearing's channel of every development CWRU record: when the check was
-    added (README), 3 of 17 named a fault, each where that channel carries a strong
-    drive-end fault (a copy of its channel, or 135's). A family whose pair rests on the
-    lines of a stronger series at no fault frequency of the bearing is not named (135), nor
-    one whose in-between lines mark a slower period (238); 213 (inner, lines the drive-end
-    series does not make) is left; the baseline and the 12 kHz records stay none."""
+    """The healthy bearing's channel of every development CWRU record: when the check was added
+    (docs/results/diagnostics), 3 of 17 named a fault, each where that channel carries a strong
+    drive-end fault (a copy of its channel, or 135's). A family whose pair rests on the lines of
+    a stronger series at no fault frequency of the bearing is not named (135), nor one whose
+    in-between lines mark a slower period (238); 213 (inner, lines the drive-end series does not
+    make) is left; the baseline and the 12 kHz records stay none."""
     if not DATA.is_dir():
         pytest.skip(f"development data not available at {DATA}")
     results = run_benchmark(find_records(DATA), other_bearing=True)

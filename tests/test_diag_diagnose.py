@@ -228,11 +228,11 @@ def test_cwru_verdicts(cwru_records, key):
 
 
 def test_cwru_ball_record_118_is_named_only_from_lines_it_holds(cwru_records):
-    """118 is labelled a ball fault but holds no 2 x BSF series (README: the periodicity
-    scan); in 3.5-4 kHz, the band of its most repetitive impacts (the infogram's), it holds
-    a BPFO series modulating the squared envelope by 10-20 %, which the healthy baseline
-    97 read at 12 kHz the same way does not show. Whatever the verdict, it is not inner or
-    ball, and an outer verdict rests on that series."""
+    """118 is labelled a ball fault but holds no 2 x BSF series (docs/results/diagnostics: the
+    periodicity scan); in 3.5-4 kHz, the band of its most repetitive impacts (the infogram's),
+    it holds a BPFO series modulating the squared envelope by 10-20 %, which the healthy
+    baseline 97 read at 12 kHz the same way does not show. Whatever the verdict, it is not inner
+    or ball, and an outer verdict rests on that series."""
     sig, d = cwru_records["118"]
     assert d.fault in ("outer", "none") and not d.families["ball"].detected
     if d.fault == "outer":
