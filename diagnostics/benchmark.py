@@ -17,12 +17,13 @@ from pathlib import Path
 
 import numpy as np
 
-from diagnostics.datasets import label_from_name, read_labelled_record
+from diagnostics.datasets import RecordLabel, label_from_name, read_labelled_record
 from diagnostics.diagnose import diagnose
 
 __all__ = [
     "BenchmarkResult",
     "find_records",
+    "labelled_records",
     "run_benchmark",
     "summary_table",
     "speed_summary",
@@ -94,6 +95,20 @@ def _is_record(path: Path) -> bool:
     return path.suffix.lower() == ".mat" and path.is_file() and label_from_name(path) is not None
 
 
+def labelled_records(
+    paths: Iterable, other_bearing: bool = False
+) -> list[tuple[Path, RecordLabel]]:
+    """The records :func:`run_benchmark` diagnoses, each with its label: those whose name
+    either set uses (with ``other_bearing``, the CWRU ones only: MFPT records have one
+    bearing)."""
+    chosen = []
+    for path in map(Path, paths):
+        label = label_from_name(path)
+        if label is not None and not (other_bearing and label.source != "CWRU"):
+            chosen.append((path, label))
+    return chosen
+
+
 def run_benchmark(
     paths: Iterable,
     diagnose_fn: Callable = diagnose,
@@ -127,11 +142,7 @@ def run_benchmark(
         One per record; a record that cannot be read or diagnosed has verdict ``"error"``.
     """
     results = []
-    for path in paths:
-        path = Path(path)
-        label = label_from_name(path)
-        if label is None or (other_bearing and label.source != "CWRU"):
-            continue
+    for path, label in labelled_records(paths, other_bearing):
         detail = f"{label.size_in:.3f} in{label.position}" if label.size_in else ""
         group, expected, end = label.group, label.fault, None
         if other_bearing:

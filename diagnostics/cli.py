@@ -20,6 +20,7 @@ import numpy as np
 
 from diagnostics.files import atomic_path, output_folder, write_json
 from diagnostics.frequencies import BearingGeometry, bearing_frequencies
+from diagnostics.progress import LOG_INTERVAL_S, RecordProgress
 
 if TYPE_CHECKING:  # scipy loads when a command runs, not for --help
     from diagnostics.diagnose import Diagnosis
@@ -599,6 +600,17 @@ def add_benchmark_arguments(parser: argparse.ArgumentParser) -> None:
         help="false-alarm check: read each CWRU record's other accelerometer with the other "
         "end's (healthy) bearing; every right verdict is none",
     )
+    parser.add_argument(
+        "--quiet", action="store_true", help="no progress bar or progress lines on stderr"
+    )
+    parser.add_argument(
+        "--progress-interval",
+        type=float,
+        default=LOG_INTERVAL_S,
+        metavar="S",
+        help="seconds between progress lines when stderr is not a terminal (a log, a pipe; "
+        f"default {LOG_INTERVAL_S:g}); on a terminal a bar",
+    )
 
 
 def run_benchmark(args: argparse.Namespace) -> int:
@@ -612,14 +624,27 @@ def run_benchmark(args: argparse.Namespace) -> int:
             "InnerRaceFault_vload_1.mat)"
         )
 
+    if not math.isfinite(args.progress_interval) or args.progress_interval < 0:
+        raise UsageError(f"--progress-interval {args.progress_interval:g}: give seconds, 0 or more")
+    # With --records each record's line is the progress.
+    progress = RecordProgress(
+        len(benchmark.labelled_records(paths, args.other_bearing)),
+        log_every_s=args.progress_interval,
+        enabled=not (args.quiet or args.records),
+    )
+
     def show(r: benchmark.BenchmarkResult) -> None:
+        progress.update(r.path.name)
         if args.records:
             mark = "ok" if r.correct else "MISS"
             print(
                 f"{r.path.name}: {r.expected} -> {r.verdict} ({r.confidence:.2f}) {mark} {r.detail}"
             )
 
-    results = benchmark.run_benchmark(paths, progress=show, other_bearing=args.other_bearing)
+    try:
+        results = benchmark.run_benchmark(paths, progress=show, other_bearing=args.other_bearing)
+    finally:
+        progress.close()
     if not results:
         raise UsageError(
             f"{', '.join(map(str, args.folders))}: no CWRU record for --other-bearing (MFPT "

@@ -206,6 +206,79 @@ def test_other_bearing_check_reads_the_healthy_end(synthetic_set, tmp_path, caps
     assert "--other-bearing" in capsys.readouterr().err
 
 
+def test_benchmark_shows_its_progress_on_stderr(synthetic_set, capsys):
+    """In a log or a pipe, a line every --progress-interval seconds (0: each record) and a
+    last one with the count; the table on stdout stays as it is. --quiet and --records
+    (whose lines are the progress) show none; a negative interval is refused."""
+    assert main(["benchmark", str(synthetic_set), "--progress-interval", "0"]) == 0
+    out, err = capsys.readouterr()
+    lines = err.splitlines()
+    assert [line.split(",")[0] for line in lines[:-1]] == [
+        "benchmark: 1 of 3 records", "benchmark: 2 of 3 records"
+    ]  # fmt: skip
+    assert lines[-1].startswith("benchmark: 3 records in ")
+    assert out.splitlines()[-1].split() == ["all", "3", "3/3"]
+    for flag in ("--quiet", "--records"):
+        assert main(["benchmark", str(synthetic_set), "--progress-interval", "0", flag]) == 0
+        assert capsys.readouterr().err == ""
+    assert main(["benchmark", str(synthetic_set), "--progress-interval", "-1"]) == 2
+    assert "--progress-interval -1" in capsys.readouterr().err
+
+
+def test_progress_lines_wait_for_their_interval(monkeypatch):
+    """A line only once the interval has passed since the last (the clock is driven here:
+    12 s a record, a 20 s interval), none for the last record, whose line is the summary."""
+    import io
+
+    from diagnostics import progress
+
+    now = iter(np.arange(0.0, 1000.0, 12.0))
+    monkeypatch.setattr(progress, "_clock", lambda: float(next(now)))
+    log = io.StringIO()
+    shown = progress.RecordProgress(6, file=log, log_every_s=20.0)
+    for k in range(6):
+        shown.update(f"r{k}.mat")
+    shown.close()
+    assert log.getvalue().splitlines() == [
+        "benchmark: 2 of 6 records, 24 s, last r1.mat",
+        "benchmark: 4 of 6 records, 48 s, last r3.mat",
+        "benchmark: 6 records in 84 s",
+    ]
+
+
+def test_progress_is_a_bar_on_a_terminal():
+    import io
+
+    from diagnostics.progress import RecordProgress
+
+    class Terminal(io.StringIO):
+        def isatty(self):
+            return True
+
+    screen = Terminal()
+    shown = RecordProgress(3, file=screen)
+    for k in range(3):
+        shown.update(f"r{k}.mat")
+    shown.close()
+    last = screen.getvalue().split("\r")[-1]
+    assert "benchmark: 100%" in last and "3/3" in last and "r2.mat" in last
+
+
+def test_other_bearing_progress_counts_the_cwru_records(synthetic_set, tmp_path, capsys):
+    """With --other-bearing an MFPT record (one bearing) is not diagnosed, nor counted."""
+    folder = tmp_path / "both"
+    folder.mkdir()
+    for path in find_records(synthetic_set):
+        (folder / path.name).write_bytes(path.read_bytes())
+    x = np.random.default_rng(2).standard_normal(50000)
+    savemat(folder / "OuterRaceFault_vload_1.mat",
+            {"bearing": {"gs": x[:, None], "sr": 48828.0, "rate": 25.0, "load": 25.0}})  # fmt: skip
+    assert main(["benchmark", str(folder), "--other-bearing", "--progress-interval", "0"]) == 0
+    lines = capsys.readouterr().err.splitlines()
+    assert lines[0].startswith("benchmark: 1 of 3 records,")
+    assert lines[-1].startswith("benchmark: 3 records in ")
+
+
 # ------------------------------------------------------------- development sets (if present)
 @pytest.fixture(scope="module")
 def development_results():

@@ -20,13 +20,15 @@ import sys
 import time
 from typing import TYPE_CHECKING, TextIO
 
+# One default and one terminal test for every progress display, the run's and the
+# diagnostics benchmark's.
+from diagnostics.progress import LOG_INTERVAL_S
+from diagnostics.progress import is_terminal as _is_tty
+
 if TYPE_CHECKING:
     from tqdm import tqdm
 
 __all__ = ["LOG_INTERVAL_S", "RelaxProgress", "RunProgress", "format_duration"]
-
-LOG_INTERVAL_S = 20.0
-"""Default wall seconds between progress lines when the output is not a terminal."""
 
 # Separate name so tests can drive the clock.
 _clock = time.time
@@ -36,13 +38,6 @@ _BAR_FORMAT = (
 )
 # The preload's bar is on log10(peak KE / KE): no rate or time left, its pace is not steady.
 _RELAX_BAR_FORMAT = "{desc}: {bar}| [{elapsed}{postfix}]"
-
-
-def _is_tty(stream) -> bool:
-    try:
-        return bool(stream.isatty())
-    except (AttributeError, ValueError):  # no isatty, or a closed stream
-        return False
 
 
 def _tqdm() -> type[tqdm]:
