@@ -624,6 +624,10 @@ def run_benchmark(args: argparse.Namespace) -> int:
             "InnerRaceFault_vload_1.mat)"
         )
 
+    if args.csv is not None:  # before the records are read, not after
+        if not str(args.csv).strip() or args.csv.is_dir():
+            raise UsageError(f"--csv {str(args.csv)!r}: give a file name, e.g. verdicts.csv")
+        output_folder(args.csv.parent, "--csv")
     if not math.isfinite(args.progress_interval) or args.progress_interval < 0:
         raise UsageError(f"--progress-interval {args.progress_interval:g}: give seconds, 0 or more")
     # With --records each record's line is the progress.

@@ -225,6 +225,15 @@ def test_benchmark_shows_its_progress_on_stderr(synthetic_set, capsys):
     assert "--progress-interval -1" in capsys.readouterr().err
 
 
+def test_a_csv_path_that_cannot_be_written_is_refused_before_the_records(synthetic_set, capsys):
+    """A folder given as --csv, or a file under /proc, is one line and exit status 2 before
+    any record is read (it was an OSError after the whole run, the verdicts lost)."""
+    for bad in (str(synthetic_set), "/proc/verdicts.csv"):
+        assert main(["benchmark", str(synthetic_set), "--csv", bad]) == 2
+        out, err = capsys.readouterr()
+        assert out == "" and err.startswith("error: --csv") and len(err.splitlines()) == 1
+
+
 def test_progress_lines_wait_for_their_interval(monkeypatch):
     """A line only once the interval has passed since the last (the clock is driven here:
     12 s a record, a 20 s interval), none for the last record, whose line is the summary."""
