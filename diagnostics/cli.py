@@ -349,7 +349,9 @@ def shaft_rate(args: argparse.Namespace, sig):
         try:
             est = estimate_speed(sig.x, sig.fs, low / 60.0, high / 60.0)
         except ValueError as exc:
-            raise UsageError(f"--rpm-range: {exc}") from None
+            # The library speaks of f_min in Hz; here it is the lower speed given.
+            hint = " (f_min: the lower --rpm-range speed / 60)" if "f_min" in str(exc) else ""
+            raise UsageError(f"--rpm-range: {exc}{hint}") from None
         if est.confidence < _MIN_SPEED_CONFIDENCE:
             raise UsageError(
                 f"--rpm-range: no shaft speed found with confidence within {low:g}-{high:g} "

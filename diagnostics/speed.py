@@ -640,8 +640,10 @@ def estimate_speed(
         frames = [check_positive_int(nperseg, "nperseg", minimum=16)]
     if x.size < 2 * frames[0]:
         raise ValueError(
-            f"x is too short to track the speed: {x.size} samples, need at least "
-            f"{2 * frames[0]} (two frames of {frames[0]}; raise f_min or give nperseg)"
+            f"x is too short to track the speed down to f_min = {f_min:g} Hz: {x.size} "
+            f"samples ({x.size / fs:.3g} s), need at least {2 * frames[0]} "
+            f"({2 * frames[0] / fs:.3g} s: two frames of {frames[0]}, each two periods of "
+            "f_min or more); raise f_min or give nperseg"
         )
     # The frame whose ridge stands highest over its candidates: long frames resolve lines a
     # few hertz apart (measured spectra are full of them), short ones follow a fast change.

@@ -477,3 +477,11 @@ def test_cli_estimated_speed_refuses_a_record_without_one(tmp_path, capsys):
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and "--rpm-range: no shaft speed found with confidence" in err[0], err
     assert not (tmp_path / "x").exists()
+
+
+def test_a_record_too_short_for_the_lowest_speed_says_how_long_it_must_be():
+    """Two frames of two periods of f_min at least (2048 samples a frame at 1 kHz, 1 Hz)."""
+    x = np.random.default_rng(0).standard_normal(1000)
+    with pytest.raises(ValueError, match=r"down to f_min = 1 Hz: 1000 samples \(1 s\), need "
+                       r"at least 4096 \(4\.1 s"):  # fmt: skip
+        estimate_speed(x, 1000.0, 1.0, 5.0)
