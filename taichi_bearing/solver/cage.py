@@ -22,6 +22,7 @@ import numpy as np
 import taichi as ti
 
 from taichi_bearing.errors import InputError
+from taichi_bearing.solver import transfer
 from taichi_bearing.solver.contact_law import friction_force, normal_force
 from taichi_bearing.solver.contact_setup import ContactParameters, segment_stiffness
 from taichi_bearing.solver.contributor import FORCE_QUANTUM, ForceContributor, add_force, force_at
@@ -78,8 +79,7 @@ class RigidCage(ForceContributor):
             raise ValueError("half_gap and inertia must be positive")
         mesh = model.mesh
         nodes, roller, kk = [], [], []
-        lam = model.lam.to_numpy()[: model.n_elements]
-        mu = model.mu.to_numpy()[: model.n_elements]
+        lam, mu = model.lam_np, model.mu_np
         for j, name in enumerate(roller_surfaces):
             seg = np.asarray(mesh.surfaces[name], dtype=np.int64)
             k_seg = segment_stiffness(
@@ -135,10 +135,14 @@ class RigidCage(ForceContributor):
         self.state = ti.field(ti.f64, shape=2)  # angle, speed
         # friction and damping energy dissipated, per node (no shared sum)
         self.diss = ti.Vector.field(2, ti.f64, shape=nn)
-        self.node.from_numpy(node_ids)
-        self.roller.from_numpy(np.concatenate(roller).astype(np.int32))
-        self.k.from_numpy(np.concatenate(kk))
-        self.angle0.from_numpy(np.asarray(pocket_angles, dtype=float))
+        transfer.upload(
+            [
+                (self.node, node_ids),
+                (self.roller, np.concatenate(roller).astype(np.int32)),
+                (self.k, np.concatenate(kk)),
+                (self.angle0, np.asarray(pocket_angles, dtype=float)),
+            ]
+        )
         self.n_samples = 0
 
     @classmethod
@@ -318,10 +322,11 @@ class RigidCage(ForceContributor):
         """``kinetic`` (I w^2 / 2), ``elastic`` (stored penalty), ``friction`` and
         ``damping`` (dissipated so far), J."""
         n = self.n_nodes
-        d = self.diss.to_numpy()[:n].sum(axis=0)
+        diss, en, et = transfer.download((self.diss, self.en, self.et))
+        d = diss[:n].sum(axis=0)
         return {
             "kinetic": 0.5 * self.inertia * self.speed**2,
-            "elastic": float(self.en.to_numpy()[:n].sum() + self.et.to_numpy()[:n].sum()),
+            "elastic": float(en[:n].sum() + et[:n].sum()),
             "friction": float(d[0]),
             "damping": float(d[1]),
         }
@@ -330,18 +335,22 @@ class RigidCage(ForceContributor):
 
     def state_arrays(self) -> dict[str, np.ndarray]:
         """Everything needed to continue a run (checkpoints)."""
-        out = {f"cage_{k}": getattr(self, k).to_numpy() for k in self._STATE}
+        saved = transfer.download([getattr(self, k) for k in self._STATE])
+        out = {f"cage_{k}": a for k, a in zip(self._STATE, saved, strict=True)}
         out["cage_n_samples"] = np.int64(self.n_samples)
         return out
 
     def load_state_arrays(self, arrays) -> None:
         """Restore :meth:`state_arrays`."""
+        pairs = []
         for k in self._STATE:
             field, saved = getattr(self, k), np.asarray(arrays[f"cage_{k}"])
-            if saved.shape != field.to_numpy().shape:  # a checkpoint of an older layout
+            shape = transfer.array_shape(field)
+            if saved.shape != shape:  # a checkpoint of an older layout
                 raise InputError(
                     f"checkpoint: the cage's {k} has shape {saved.shape}, this version keeps "
-                    f"{field.to_numpy().shape}: written by an older version, run without --resume"
+                    f"{shape}: written by an older version, run without --resume"
                 )
-            field.from_numpy(saved)
+            pairs.append((field, saved))
+        transfer.upload(pairs)
         self.n_samples = int(arrays["cage_n_samples"])

@@ -44,6 +44,7 @@ from collections.abc import Sequence
 import numpy as np
 import taichi as ti
 
+from taichi_bearing.solver import transfer
 from taichi_bearing.solver.backend import serial_loops
 from taichi_bearing.solver.contact_law import friction_force, normal_force
 from taichi_bearing.solver.contact_patch import arc_frame, patch_overlap
@@ -151,10 +152,14 @@ class PenaltyContact(ForceContributor):
             seg_surf.append(np.full(len(seg), m))
         segs = np.concatenate(segs)
         seg_surf = np.concatenate(seg_surf).astype(np.int32)
-        lam = model.lam.to_numpy()[: model.n_elements]
-        mu = model.mu.to_numpy()[: model.n_elements]
         k_seg = segment_stiffness(
-            mesh, segs, lam, mu, model.area_np, model.thickness, params.penalty_scale
+            mesh,
+            segs,
+            model.lam_np,
+            model.mu_np,
+            model.area_np,
+            model.thickness,
+            params.penalty_scale,
         )
         if params.penalty_method == "segment":
             # The soft penalty (m / dt^2) follows the step and needs no bound.
@@ -232,28 +237,35 @@ class PenaltyContact(ForceContributor):
         self.diss = f(ti.f64, shape=2)
         self.q_diss = ti.Vector.field(2, ti.f64, shape=nq)
 
-        self.pass_pair.from_numpy(table)
-        self.pass_sign.from_numpy(sign)
-        self.q_node.from_numpy(q_node)
-        self.q_surf.from_numpy(q_surf)
-        self.q_prev.from_numpy(q_prev)
-        self.q_next.from_numpy(q_next)
-        self.q_kappa.from_numpy(q_kappa)
-        self.q_corner.from_numpy(query_corners(mesh.nodes, q_node, q_prev, q_next).astype(np.int32))
         Xq = np.asarray(mesh.nodes, dtype=float)
         half = 0.25 * (
             np.linalg.norm(Xq[q_node] - Xq[q_prev], axis=1)
             + np.linalg.norm(Xq[q_next] - Xq[q_node], axis=1)
         )
-        self.q_hmax.from_numpy(1.5 * half)
-        self.q_seg.fill(-1)
-        self.seg_a.from_numpy(segs[:, 0].astype(np.int32))
-        self.seg_b.from_numpy(segs[:, 1].astype(np.int32))
-        self.seg_surf.from_numpy(seg_surf)
-        self.seg_k.from_numpy(k_seg)
-        self.seg_kappa.from_numpy(kappa)
-        self.seg_corner.from_numpy((corner_a.astype(np.int32) + 2 * corner_b).astype(np.int32))
-        self.track.from_numpy(track)
+        q_corner = query_corners(mesh.nodes, q_node, q_prev, q_next).astype(np.int32)
+        seg_corner = (corner_a.astype(np.int32) + 2 * corner_b).astype(np.int32)
+        # one copy kernel for them all (solver.transfer)
+        transfer.upload(
+            [
+                (self.pass_pair, table),
+                (self.pass_sign, sign),
+                (self.q_node, q_node),
+                (self.q_surf, q_surf),
+                (self.q_prev, q_prev),
+                (self.q_next, q_next),
+                (self.q_kappa, q_kappa),
+                (self.q_corner, q_corner),
+                (self.q_hmax, 1.5 * half),
+                (self.q_seg, np.full(transfer.array_shape(self.q_seg), -1)),
+                (self.seg_a, segs[:, 0].astype(np.int32)),
+                (self.seg_b, segs[:, 1].astype(np.int32)),
+                (self.seg_surf, seg_surf),
+                (self.seg_k, k_seg),
+                (self.seg_kappa, kappa),
+                (self.seg_corner, seg_corner),
+                (self.track, track),
+            ]
+        )
         self.track_np = track
         self.n_samples = 0
         self.rebuilds = 0
@@ -524,19 +536,20 @@ class PenaltyContact(ForceContributor):
 
     def energy(self) -> float:
         """Elastic energy stored in the penalty springs (normal + tangential), J."""
-        n = self.n_query
-        return float(self.q_en.to_numpy()[:n].sum() + self.q_et.to_numpy()[:n].sum())
+        return self.energies()["elastic"]
 
     def energies(self) -> dict[str, float]:
         """``elastic`` (stored penalty energy), ``friction`` and ``damping`` (dissipated
         since construction or :meth:`reset_dissipation`), J for the model's thickness."""
-        d = self.diss.to_numpy() + self.q_diss.to_numpy()[: self.n_query].sum(axis=0)
-        return {"elastic": self.energy(), "friction": float(d[0]), "damping": float(d[1])}
+        n = self.n_query
+        en, et, diss, q_diss = transfer.download((self.q_en, self.q_et, self.diss, self.q_diss))
+        d = diss + q_diss[:n].sum(axis=0)
+        elastic = float(en[:n].sum() + et[:n].sum())
+        return {"elastic": elastic, "friction": float(d[0]), "damping": float(d[1])}
 
     def reset_dissipation(self) -> None:
         """Zero the dissipation sums (e.g. after the preload)."""
-        self.diss.fill(0.0)
-        self.q_diss.fill(0.0)
+        transfer.fill((self.diss, self.q_diss))
 
     def nodal_forces(self) -> np.ndarray:
         """Contact force on every node in the last step, shape (n_nodes, 2), N."""

@@ -30,6 +30,7 @@ import numpy as np
 import taichi as ti
 from taichi.lang.field import Field as TaichiField
 
+from taichi_bearing.solver import transfer
 from taichi_bearing.solver.backend import parallel_members
 
 __all__ = ["FORCE_QUANTUM", "ForceContributor", "add_force", "force_at"]
@@ -151,20 +152,29 @@ class ForceContributor:
         """Everything needed to continue bit for bit after a resume. Default: every
         Taichi field and every plain int/float/bool attribute of the object."""
         out: dict[str, np.ndarray] = {}
+        batch = {}  # the fields one copy kernel reads (solver.transfer)
         for name, val in vars(self).items():
             if isinstance(val, TaichiField):
-                out[name] = val.to_numpy()
+                if transfer.is_transferable(val):
+                    batch[name] = val
+                else:
+                    out[name] = val.to_numpy()
             elif isinstance(val, (bool, int, float)):
                 out[name] = np.asarray(val)
-        return out
+        out.update(zip(batch, transfer.download(list(batch.values())), strict=True))
+        return {name: out[name] for name in vars(self) if name in out}
 
     def load_state_arrays(self, arrays: Mapping[str, np.ndarray]) -> None:
         """Restore what :meth:`state_arrays` saved."""
+        batch = []  # the fields one copy kernel writes (solver.transfer)
         for name, a in arrays.items():
             if not hasattr(self, name):
                 continue  # a checkpoint of an older version: an attribute since removed
             cur = getattr(self, name)
-            if isinstance(cur, TaichiField):
+            if isinstance(cur, TaichiField) and transfer.is_transferable(cur):
+                batch.append((cur, np.asarray(a)))
+            elif isinstance(cur, TaichiField):
                 cur.from_numpy(np.asarray(a))
             else:
                 setattr(self, name, type(cur)(np.asarray(a).item()))
+        transfer.upload(batch)

@@ -14,7 +14,7 @@ import numpy as np
 import taichi as ti
 
 from taichi_bearing.mesh.types import Mesh
-from taichi_bearing.solver import stepping
+from taichi_bearing.solver import stepping, transfer
 from taichi_bearing.solver.backend import current_arch
 from taichi_bearing.solver.contributor import ForceContributor
 from taichi_bearing.solver.damping import StiffnessDamping
@@ -169,6 +169,7 @@ class Model:
         if np.any(mass <= 0):
             raise ValueError(f"node {int(np.argmin(mass))} belongs to no element (zero mass)")
         self.mass_np = mass
+        self.lam_np, self.mu_np = lam, mu  # Lame constants per element, Pa
         self.area_np = geo.area
         self.time_step = time_step
         # The critical step is found when first read (contributors add their bounds
@@ -234,20 +235,24 @@ class Model:
             self.mr_order = _scalar_field(ne, ti.i32)
             self.mr_count = _scalar_field(self.multirate_levels + 1, ti.i32)
 
-        self.X.from_numpy(np.asarray(mesh.nodes, dtype=float))
-        self.x.from_numpy(np.asarray(mesh.nodes, dtype=float))
-        self.mass.from_numpy(mass)
-        self.adj_ptr.from_numpy(ptr)
-        self.adj.from_numpy(adj)
-        self.conn.from_numpy(elements.astype(np.int32))
-        self.bx.from_numpy(geo.b[..., 0].copy())
-        self.by.from_numpy(geo.b[..., 1].copy())
-        self.gam.from_numpy(geo.gamma)
-        self.at.from_numpy(geo.area * self.thickness)
-        self.khg.from_numpy(khg)
-        self.lam.from_numpy(lam)
-        self.mu.from_numpy(mu)
-        self.beta_e.from_numpy(beta_e)
+        # every field's first values go up in one copy kernel (solver.transfer): the
+        # setup helpers add theirs to this list
+        self._uploads = [
+            (self.X, np.asarray(mesh.nodes, dtype=float)),
+            (self.x, np.asarray(mesh.nodes, dtype=float)),
+            (self.mass, mass),
+            (self.adj_ptr, ptr),
+            (self.adj, adj),
+            (self.conn, elements.astype(np.int32)),
+            (self.bx, geo.b[..., 0]),
+            (self.by, geo.b[..., 1]),
+            (self.gam, geo.gamma),
+            (self.at, geo.area * self.thickness),
+            (self.khg, khg),
+            (self.lam, lam),
+            (self.mu, mu),
+            (self.beta_e, beta_e),
+        ]
         self.bad_element[None] = ne
 
         self._setup_constraints(constraints)
@@ -263,7 +268,9 @@ class Model:
         self.steps_by_mode: dict[str, int] = {}  # steps taken in each stepping mode
         self.step_graphs: dict = {}  # compute graphs of parallel stepping, made on first use
         self.step_count = 0
-        self.set_initial_velocities()
+        # set_initial_velocities (no contributor yet), in the one upload of every field
+        self._restart(self._uploads + [(self.bc, self.bc_np), (self.v, self._rigid_velocities())])
+        del self._uploads
 
     # ------------------------------------------------------------------ setup helpers
 
@@ -309,20 +316,18 @@ class Model:
         self.plate_f = _scalar_field(self.n_plate)
         self.plate_vo = ti.field(ti.f64, shape=())
         if plates:
-            self.plate_node.from_numpy(self.plate.nodes.astype(np.int32))
+            self._uploads.append((self.plate_node, self.plate.nodes.astype(np.int32)))
             self.plate_dir[None] = self.plate.direction
         self.bc_np = bc  # uploaded once the loads have added theirs
-        self.held_dir.from_numpy(held)
-        self.rot_group.from_numpy(rgroup)
+        self._uploads += [(self.held_dir, held), (self.rot_group, rgroup)]
         nr = len(rots)
         self.n_rot = nr
         self.rot_center = _vec_field(nr)
         self.rot_par = _vec_field(nr, 3)  # omega_start, omega, ramp_time
         if nr:
-            self.rot_center.from_numpy(np.array([r.center for r in rots], dtype=float))
-            self.rot_par.from_numpy(
-                np.array([[r.omega_start, r.omega, r.ramp_time] for r in rots], dtype=float)
-            )
+            centers = np.array([r.center for r in rots], dtype=float)
+            par = np.array([[r.omega_start, r.omega, r.ramp_time] for r in rots], dtype=float)
+            self._uploads += [(self.rot_center, centers), (self.rot_par, par)]
 
     def _setup_loads(self, loads: Sequence[NodalForces]) -> None:
         nodes, forces, ramps = [], [], []
@@ -342,11 +347,12 @@ class Model:
         all_nodes = np.concatenate(nodes) if nl else np.zeros(0, np.int64)
         self.loads_unique = bool(len(np.unique(all_nodes)) == nl)
         if nl:
-            self.load_node.from_numpy(np.concatenate(nodes).astype(np.int32))
-            self.load_force.from_numpy(np.concatenate(forces))
-            self.load_ramp.from_numpy(np.concatenate(ramps))
+            self._uploads += [
+                (self.load_node, np.concatenate(nodes).astype(np.int32)),
+                (self.load_force, np.concatenate(forces)),
+                (self.load_ramp, np.concatenate(ramps)),
+            ]
             self.bc_np[np.concatenate(nodes)] |= LOADED
-        self.bc.from_numpy(self.bc_np)
 
     def _setup_sensors(self, sensors: Mapping[str, int]) -> None:
         self.sensor_names = list(sensors)
@@ -357,10 +363,9 @@ class Model:
         self.sensor_node = _scalar_field(ns, ti.i32)
         self.sensor_sum = _vec_field(ns, 6)  # ux, uy, vx, vy, ax, ay
         if ns:
-            self.sensor_node.from_numpy(ids)
+            self._uploads.append((self.sensor_node, ids))
         self.bc_np &= ~SENSOR
         self.bc_np[ids] |= SENSOR  # the node update stores their accelerations
-        self.bc.from_numpy(self.bc_np)
 
     def part_nodes(self, part: str | int) -> np.ndarray:
         """Indices of the nodes of one part."""
@@ -371,24 +376,26 @@ class Model:
         """Velocities from the :class:`RigidVelocity` list (zero elsewhere): time 0 of a
         transient. Restarts the leapfrog (the next step is a half step) and the
         work/damping accumulators, and tells each contributor (``start``)."""
+        self._restart([(self.v, self._rigid_velocities())])
+        for c in self._contributors:
+            c.start(self)
+
+    def _rigid_velocities(self) -> np.ndarray:
         X = np.asarray(self.mesh.nodes, dtype=float)
         v = np.zeros((self.n_nodes, 2))
         for rv in self.initial_velocities:
             ids = self.part_nodes(rv.part)
             v[ids] = rigid_velocity_field(X[ids], rv.omega, rv.center, rv.velocity)
-        self.v.from_numpy(v)
-        self.restart_accounting()
-        for c in self._contributors:
-            c.start(self)
+        return v
 
     def restart_accounting(self) -> None:
         """Zero the work/damping accumulators and start the leapfrog with a half step."""
-        self.work.fill(0.0)
-        self.e_damp.fill(0.0)
-        self.f_other.fill(0.0)
-        self.f_extra.fill(0)
-        self.f_load.fill(0.0)
-        self.sensor_sum.fill(0.0)
+        self._restart([])
+
+    def _restart(self, uploads: list) -> None:
+        # restart_accounting, with other fields' values in the same copy kernel
+        zeroed = (self.work, self.e_damp, self.f_other, self.f_extra, self.f_load, self.sensor_sum)
+        transfer.upload(uploads + [(f, np.zeros(transfer.array_shape(f))) for f in zeroed])
         self.first = True
         self.step_count = 0
         self.history_stale = True
@@ -499,9 +506,13 @@ class Model:
         element_dt = self.critical.element_dt * self.critical.dt_factor
         elements = np.asarray(self.mesh.elements)
         c = step_classes(element_dt, elements, self.dt, self.multirate_levels, fast)
-        self.mr_node_class.from_numpy(c.node_class.astype(np.int32))
-        self.mr_order.from_numpy(c.element_order.astype(np.int32))
-        self.mr_count.from_numpy(c.element_count.astype(np.int32))
+        transfer.upload(
+            [
+                (self.mr_node_class, c.node_class.astype(np.int32)),
+                (self.mr_order, c.element_order.astype(np.int32)),
+                (self.mr_count, c.element_count.astype(np.int32)),
+            ]
+        )
         self.step_classes = c
         self._classes_dt = self.dt
 
@@ -617,10 +628,8 @@ class Model:
 
     def set_state(self, x: np.ndarray | None = None, v: np.ndarray | None = None) -> None:
         """Overwrite positions and/or velocities (shape (n_nodes, 2))."""
-        if x is not None:
-            self.x.from_numpy(np.ascontiguousarray(x, dtype=float))
-        if v is not None:
-            self.v.from_numpy(np.ascontiguousarray(v, dtype=float))
+        pairs = [(self.x, x), (self.v, v)]
+        transfer.upload([(f, np.asarray(a, dtype=float)) for f, a in pairs if a is not None])
         self.history_stale = True
 
     # ------------------------------------------------------------------ checkpoint state
@@ -632,7 +641,8 @@ class Model:
     def state_arrays(self) -> dict[str, np.ndarray]:
         """Everything needed to continue bit for bit (see :meth:`load_state_arrays`)."""
         names = self._STATE_FIELDS + self._HISTORY_FIELDS
-        out = {name: getattr(self, name).to_numpy() for name in names}
+        saved = transfer.download([getattr(self, name) for name in names])
+        out = dict(zip(names, saved, strict=True))
         out["history_stale"] = np.int64(self.history_stale)
         out["step_count"] = np.int64(self.step_count)
         out["first"] = np.int64(self.first)
@@ -642,12 +652,14 @@ class Model:
     def load_state_arrays(self, arrays: Mapping[str, np.ndarray]) -> None:
         """Restore a state from :meth:`state_arrays`."""
         history = all(name in arrays for name in self._HISTORY_FIELDS)
+        pairs = []
         for name in self._STATE_FIELDS + (self._HISTORY_FIELDS if history else ()):
             field = getattr(self, name)
             a = np.asarray(arrays[name])
-            if a.shape != field.to_numpy().shape:
+            if a.shape != transfer.array_shape(field):
                 raise ValueError(f"checkpoint array {name!r} has shape {a.shape}, model differs")
-            field.from_numpy(a)
+            pairs.append((field, a))
+        transfer.upload(pairs)
         self.step_count = int(arrays["step_count"])
         self.first = bool(arrays["first"])
         self._dt_set = float(arrays["dt"])
