@@ -11,6 +11,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.sparse.linalg import eigsh
 
+from taichi_bearing.blas import one_blas_thread
 from taichi_bearing.modes.model import ModalModel
 from taichi_bearing.modes.shapes import body_geometry, describe
 
@@ -67,7 +68,8 @@ def _eig(model: ModalModel, k: int, sigma: float):
     n = model.matrix.shape[0]
     # a fixed start vector: the same model gives the same modes (and signs) every time
     v0 = np.cos(np.arange(n) * 0.618034) + 1.5
-    lam, vec = eigsh(model.matrix, k=k, sigma=sigma, which="LM", v0=v0)
+    with one_blas_thread():  # the same modes on any BLAS thread count
+        lam, vec = eigsh(model.matrix, k=k, sigma=sigma, which="LM", v0=v0)
     order = np.argsort(lam)
     return lam[order], vec[:, order]
 

@@ -19,6 +19,7 @@ import numpy as np
 import scipy.sparse as sp
 from scipy.sparse.linalg import eigsh
 
+from taichi_bearing.blas import one_blas_thread
 from taichi_bearing.errors import InputError
 
 __all__ = [
@@ -170,6 +171,7 @@ def assembled_matrix(
     return (s @ sp.csr_matrix((values.ravel(), (rows, cols)), shape=(n_dof, n_dof)) @ s).tocsr()
 
 
+@one_blas_thread()
 def assembled_max_frequency(
     stiffness: sp.csr_matrix,
     nodal_mass: np.ndarray,

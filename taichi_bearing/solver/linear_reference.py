@@ -11,6 +11,7 @@ import numpy as np
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
+from taichi_bearing.blas import one_blas_thread
 from taichi_bearing.mesh.types import Mesh
 from taichi_bearing.solver.element import (
     element_geometry,
@@ -61,5 +62,6 @@ def linear_static(K: sp.spmatrix, forces: np.ndarray, fixed_dofs: np.ndarray) ->
     free = np.setdiff1d(np.arange(n), fixed_dofs)
     u = np.zeros(n)
     Kf = K.tocsr()[free][:, free].tocsc()
-    u[free] = spla.spsolve(Kf, np.asarray(forces, dtype=float).ravel()[free])
+    with one_blas_thread():  # the same bits on any BLAS thread count
+        u[free] = spla.spsolve(Kf, np.asarray(forces, dtype=float).ravel()[free])
     return u.reshape(-1, 2)

@@ -50,6 +50,7 @@ import scipy.sparse as sp
 from scipy.sparse.linalg import eigsh
 
 from taichi_bearing.bearing import hertz_half_width
+from taichi_bearing.blas import one_blas_thread
 from taichi_bearing.mesh.types import Mesh
 from taichi_bearing.solver.contact_bodies import (
     cylinder_cap_mesh,
@@ -278,7 +279,8 @@ def lowest_period(mesh: Mesh, material: Material, held: np.ndarray) -> float:
     free = np.setdiff1d(np.arange(2 * mesh.n_nodes), np.concatenate([2 * held, 2 * held + 1]))
     k = assemble_stiffness(mesh, material).tocsr()[free][:, free]
     m = sp.diags(np.repeat(mass, 2)[free])
-    lam = eigsh(k.tocsc(), k=1, M=m.tocsc(), sigma=0.0, which="LM")[0][0]
+    with one_blas_thread():  # the same period on any BLAS thread count
+        lam = eigsh(k.tocsc(), k=1, M=m.tocsc(), sigma=0.0, which="LM")[0][0]
     return 2.0 * math.pi / math.sqrt(lam)
 
 
