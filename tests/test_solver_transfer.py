@@ -87,6 +87,17 @@ def test_more_fields_than_a_kernel_takes_are_copied_in_turns(recwarn):
     assert not [w for w in recwarn if "unrolling" in str(w.message)]
 
 
+def test_a_read_that_zeroes_returns_the_values_and_leaves_zeros():
+    fields = _fields()
+    values = _values(fields, 6)
+    transfer.upload(zip(fields, values, strict=True))
+    got = transfer.download(fields, zero=True)
+    assert all(np.array_equal(a, b) for a, b in zip(got, values, strict=True))
+    for f in fields:
+        own = f.to_numpy()
+        assert not own.any() and not np.signbit(own).any()  # +0, as fill(0) leaves
+
+
 def test_fill_sets_every_component_of_every_field():
     fields = _fields()
     transfer.upload(zip(fields, _values(fields, 5), strict=True))

@@ -308,8 +308,8 @@ class RigidCage(ForceContributor):
 
     def pop_sample_means(self) -> np.ndarray:
         """Mean of :meth:`pocket_forces` over the steps since the last call; restarts."""
-        s = self.acc.to_numpy()[: self.n_rollers] / max(self.n_samples, 1)
-        self.acc.fill(0.0)
+        (acc,) = transfer.download((self.acc,), zero=True)
+        s = acc[: self.n_rollers] / max(self.n_samples, 1)
         self.n_samples = 0
         return s
 

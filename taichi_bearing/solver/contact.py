@@ -529,8 +529,8 @@ class PenaltyContact(ForceContributor):
     def pop_sample_means(self) -> np.ndarray:
         """Mean of :meth:`current_resultants` over the steps since the last call (zeros
         if none), shape (n_pairs, 4); restarts the sums."""
-        s = self.acc.to_numpy()[: self.n_pairs] / max(self.n_samples, 1)
-        self.acc.fill(0.0)
+        (acc,) = transfer.download((self.acc,), zero=True)
+        s = acc[: self.n_pairs] / max(self.n_samples, 1)
         self.n_samples = 0
         return s
 

@@ -603,9 +603,8 @@ class Model:
         (shape (n_sensors, 6)), and zero the sums."""
         if self.n_sensor == 0:
             return np.zeros((0, 6))
-        s = self.sensor_sum.to_numpy()[: self.n_sensor] / max(n_steps, 1)
-        self.sensor_sum.fill(0.0)
-        return s
+        (sums,) = transfer.download((self.sensor_sum,), zero=True)
+        return sums[: self.n_sensor] / max(n_steps, 1)
 
     def von_mises_stress(self) -> np.ndarray:
         """Cauchy von Mises stress of each element at the current positions, Pa."""

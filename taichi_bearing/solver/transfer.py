@@ -75,9 +75,9 @@ def _buffers(sizes: list[int]) -> list[np.ndarray]:
 # compiled task each (16 fields: 0.41 s, against 0.16 s for the one loop).
 @ti.kernel
 def _k_copy(fields: ti.template(), plan: ti.template(), top: ti.template(),
-            into_fields: ti.template(), b0: ti.types.ndarray(ndim=1),
+            into_fields: ti.template(), zero: ti.template(), b0: ti.types.ndarray(ndim=1),
             b1: ti.types.ndarray(ndim=1), b2: ti.types.ndarray(ndim=1)):  # fmt: skip
-    # buffers to fields (into_fields) or fields to buffers
+    # buffers to fields (into_fields) or fields to buffers, then the fields zeroed (zero)
     for i in range(top):
         for k in ti.static(range(len(fields))):
             f = ti.static(fields[k])
@@ -91,8 +91,12 @@ def _k_copy(fields: ti.template(), plan: ti.template(), top: ti.template(),
                         f[i][c] = b[start + i * width + c]
                     elif ti.static(width == 0):
                         b[start + i] = f[i]
+                        if ti.static(zero):
+                            f[i] = 0
                     else:
                         b[start + i * width + c] = f[i][c]
+                        if ti.static(zero):
+                            f[i][c] = 0
 
 
 @ti.kernel
@@ -153,18 +157,26 @@ def _upload(pairs: Sequence) -> None:
     bufs = _buffers(sizes)
     for (kind, start, _n, _width), (_, a) in zip(plan, pairs, strict=True):
         bufs[kind][start : start + a.size] = a.ravel()
-    _k_copy(fields, plan, _top(plan), True, *bufs)
+    _k_copy(fields, plan, _top(plan), True, False, *bufs)
 
 
-def download(fields: Sequence) -> list[np.ndarray]:
-    """Copies of the fields, as ``field.to_numpy()`` gives them, in their order."""
-    return [a for chunk in _chunks(tuple(fields)) for a in _download(chunk)]
+def download(fields: Sequence, zero: bool = False) -> list[np.ndarray]:
+    """Copies of the fields, as ``field.to_numpy()`` gives them, in their order.
+
+    Parameters
+    ----------
+    fields : sequence of fields
+    zero : bool
+        Set every field to zero after it is read, in the same kernel (a sum taken and
+        started again), as ``field.fill(0)`` after ``to_numpy`` would.
+    """
+    return [a for chunk in _chunks(tuple(fields)) for a in _download(chunk, zero)]
 
 
-def _download(fields: tuple) -> list[np.ndarray]:
+def _download(fields: tuple, zero: bool) -> list[np.ndarray]:
     plan, sizes = _plan(fields)
     bufs = _buffers(sizes)
-    _k_copy(fields, plan, _top(plan), False, *bufs)
+    _k_copy(fields, plan, _top(plan), False, bool(zero), *bufs)
     out = []
     for kind, start, n, width in plan:
         flat = bufs[kind][start : start + n * max(width, 1)].copy()
