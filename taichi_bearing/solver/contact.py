@@ -256,7 +256,6 @@ class PenaltyContact(ForceContributor):
                 (self.q_kappa, q_kappa),
                 (self.q_corner, q_corner),
                 (self.q_hmax, 1.5 * half),
-                (self.q_seg, np.full(transfer.array_shape(self.q_seg), -1)),
                 (self.seg_a, segs[:, 0].astype(np.int32)),
                 (self.seg_b, segs[:, 1].astype(np.int32)),
                 (self.seg_surf, seg_surf),
@@ -264,6 +263,7 @@ class PenaltyContact(ForceContributor):
                 (self.seg_kappa, kappa),
                 (self.seg_corner, seg_corner),
                 (self.track, track),
+                *transfer.constant((self.q_seg,), -1),
             ]
         )
         self.track_np = track

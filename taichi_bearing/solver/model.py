@@ -395,7 +395,7 @@ class Model:
     def _restart(self, uploads: list) -> None:
         # restart_accounting, with other fields' values in the same copy kernel
         zeroed = (self.work, self.e_damp, self.f_other, self.f_extra, self.f_load, self.sensor_sum)
-        transfer.upload(uploads + [(f, np.zeros(transfer.array_shape(f))) for f in zeroed])
+        transfer.upload(uploads + transfer.constant(zeroed, 0.0))
         self.first = True
         self.step_count = 0
         self.history_stale = True

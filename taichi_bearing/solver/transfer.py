@@ -17,7 +17,7 @@ from collections.abc import Iterable, Sequence
 import numpy as np
 import taichi as ti
 
-__all__ = ["array_shape", "download", "fill", "is_transferable", "upload"]
+__all__ = ["array_shape", "constant", "download", "fill", "is_transferable", "upload"]
 
 
 # the element types a field may hold: each has its own buffer in a copy kernel
@@ -99,21 +99,6 @@ def _k_copy(fields: ti.template(), plan: ti.template(), top: ti.template(),
                             f[i][c] = 0
 
 
-@ti.kernel
-def _k_fill(fields: ti.template(), plan: ti.template(), top: ti.template(),
-            values: ti.template()):  # fmt: skip
-    for i in range(top):
-        for k in ti.static(range(len(fields))):
-            f = ti.static(fields[k])
-            _kind, _start, n, width = ti.static(plan[k])
-            if i < n:
-                if ti.static(width == 0):
-                    f[i] = values[k]
-                else:
-                    for c in ti.static(range(width)):
-                        f[i][c] = values[k]
-
-
 def _top(plan: tuple) -> int:
     return max((p[2] for p in plan), default=0)
 
@@ -184,13 +169,12 @@ def _download(fields: tuple, zero: bool) -> list[np.ndarray]:
     return out
 
 
+def constant(fields: Sequence, value: float | int = 0) -> list[tuple[object, np.ndarray]]:
+    """``(field, array of value)`` pairs for :func:`upload`: fields set to a constant in
+    the same kernel as other fields' values."""
+    return [(f, np.full(array_shape(f), value)) for f in fields]
+
+
 def fill(fields: Sequence, value: float | int = 0) -> None:
     """Set every item (every component) of each field to ``value``, as ``field.fill`` does."""
-    for chunk in _chunks(tuple(fields)):
-        _fill(chunk, value)
-
-
-def _fill(fields: tuple, value: float | int) -> None:
-    plan, _ = _plan(fields)
-    values = tuple(list(_TYPES.values())[kind](value).item() for kind, *_ in plan)
-    _k_fill(fields, plan, _top(plan), values)
+    upload(constant(fields, value))
