@@ -42,34 +42,50 @@ def run(build, team: bool, chunks: int, steps: int) -> tuple[Model, list]:
     return model, out
 
 
-def test_team_steps_match_one_launch_per_step_with_contact():
-    """A spinning disk thrown onto a block with friction: bounces, slides and rolls."""
+def disk_run(mode: str, steps: int = 60, chunks: int = 30) -> dict:
+    """A spinning disk thrown onto a block with friction (it bounces, slides and rolls),
+    stepped ``chunks`` times ``steps`` steps in ``mode``: the contact's normal forces after
+    each chunk, and the model's state, energies and element energies at the end."""
+    params = ContactParameters(friction_static=0.3, friction_dynamic=0.2)
+    model, contact, _ = thrown_disk(params, (2.0, -1.0), omega=-300.0)
+    fn = []
+    for _ in range(chunks):
+        model.advance(steps, record_last=True, mode=mode)
+        fn.append(contact.contact_state()["fn"].copy())
+    return {
+        "fn": np.array(fn),
+        "x": model.positions(),
+        "v": model.velocities(),
+        "energies": model.energies(),
+        "contact_energies": contact.energies(),
+        "e_int": model.e_int.to_numpy(),
+        "joined": model.team.joined.to_numpy() if mode == "team" else None,
+        "steps": model.step_count,
+        "graphs": bool(model.step_graphs),
+    }
 
-    contacts = []
 
-    def build():
-        params = ContactParameters(friction_static=0.3, friction_dynamic=0.2)
-        model, contact, _ = thrown_disk(params, (2.0, -1.0), omega=-300.0)
-        contacts.append(contact)
-        return model, lambda: contact.contact_state()["fn"].copy()
+@pytest.fixture(scope="module")
+def disk_runs() -> dict[str, dict]:
+    """The thrown disk in 60-step chunks, once in each mode (several tests compare them)."""
+    return {mode: disk_run(mode) for mode in ("serial", "team", "parallel")}
 
-    team, fn_team = run(build, True, 30, 60)
-    ref, fn_ref = run(build, False, 30, 60)
-    contact_team, contact_ref = contacts
-    joined = team.team.joined.to_numpy()
+
+def test_team_steps_match_one_launch_per_step_with_contact(disk_runs):
+    """A spinning disk thrown onto a block: bounces, slides and rolls."""
+    team, ref = disk_runs["team"], disk_runs["parallel"]
     # every thread ran one member (each took its own task of the launch's items)
-    assert np.count_nonzero(joined) == current_threads()
-    assert team.step_count == ref.step_count == 1800
-    fn_team, fn_ref = np.array(fn_team), np.array(fn_ref)
-    assert fn_ref.max() > 0  # it touched
+    assert np.count_nonzero(team["joined"]) == current_threads()
+    assert team["steps"] == ref["steps"] == 1800
+    assert ref["fn"].max() > 0  # it touched
     # The contact's forces are summed in fixed point (order-free), the element forces
     # gathered in a fixed order: the same arithmetic bit for bit, however the threads
     # split the work.
-    np.testing.assert_array_equal(fn_team, fn_ref)
-    np.testing.assert_array_equal(team.positions(), ref.positions())
-    np.testing.assert_array_equal(team.velocities(), ref.velocities())
-    assert team.energies() == ref.energies()
-    assert contact_team.energies() == contact_ref.energies()
+    np.testing.assert_array_equal(team["fn"], ref["fn"])
+    np.testing.assert_array_equal(team["x"], ref["x"])
+    np.testing.assert_array_equal(team["v"], ref["v"])
+    assert team["energies"] == ref["energies"]
+    assert team["contact_energies"] == ref["contact_energies"]
 
 
 @pytest.mark.slow  # ~45 s; the contact's team test and the cage's in-step test stay in CI
@@ -89,20 +105,14 @@ def test_team_steps_match_one_launch_per_step_with_the_cage():
     assert np.count_nonzero(team.team.joined.to_numpy()) == current_threads()
 
 
-def test_element_energies_are_the_same_in_every_mode():
+def test_element_energies_are_the_same_in_every_mode(disk_runs):
     """The recorded step's element energies, summed by the compiler in its own order in
     each kernel (fast math), come from one code path: equal in every mode to the last bit
     (without it 90 of the disk's 936 elements differed between serial and team)."""
-    e_int = {}
     for mode in ("serial", "team", "parallel"):
-        params = ContactParameters(friction_static=0.3, friction_dynamic=0.2)
-        model, _, _ = thrown_disk(params, (2.0, -1.0), omega=-300.0)
-        for _ in range(30):
-            model.advance(60, record_last=True, mode=mode)
-        e_int[mode] = model.e_int.to_numpy()
-        assert model.energies()["internal"] > 0
-    np.testing.assert_array_equal(e_int["serial"], e_int["team"])
-    np.testing.assert_array_equal(e_int["serial"], e_int["parallel"])
+        assert disk_runs[mode]["energies"]["internal"] > 0
+    np.testing.assert_array_equal(disk_runs["serial"]["e_int"], disk_runs["team"]["e_int"])
+    np.testing.assert_array_equal(disk_runs["serial"]["e_int"], disk_runs["parallel"]["e_int"])
 
 
 @pytest.mark.parametrize("members", [1, 2])
@@ -159,28 +169,27 @@ def gpu_split(monkeypatch, launch: str) -> None:
     monkeypatch.setattr(stepping, "graph_steps", lambda: 4 if launch == "graph" else 1)
 
 
+@pytest.fixture(scope="module")
+def disk_serial_61() -> dict:
+    """The thrown disk on one thread in 61-step chunks (the reference of both launches)."""
+    return disk_run("serial", steps=61)
+
+
 @pytest.mark.parametrize("launch", ["unrolled", "graph"])
-def test_a_gpus_split_of_the_step_gives_the_same_motion(monkeypatch, launch):
+def test_a_gpus_split_of_the_step_gives_the_same_motion(monkeypatch, launch, disk_serial_61):
     """Launches of several steps (unrolled, or a compute graph of one-step kernels), each
     phase split among a GPU's 65,536 members (most with nothing to do), run here on the
     CPU, move the disk as one thread does, bit for bit (61 steps a call, the contact's
     grid checks between: launches of 4 steps and single steps)."""
-    out = {}
-    for mode in ("serial", "parallel"):
-        if mode == "parallel":
-            gpu_split(monkeypatch, launch)
-        params = ContactParameters(friction_static=0.3, friction_dynamic=0.2)
-        model, contact, _ = thrown_disk(params, (2.0, -1.0), omega=-300.0)
-        fn = []
-        for _ in range(30):
-            model.advance(61, record_last=True, mode=mode)
-            fn.append(contact.contact_state()["fn"].copy())
-        out[mode] = (model.positions(), np.array(fn), model.energies())
-        assert bool(model.step_graphs) is (mode == "parallel" and launch == "graph")
-    assert out["serial"][1].max() > 0  # it touched
-    np.testing.assert_array_equal(out["parallel"][0], out["serial"][0])
-    np.testing.assert_array_equal(out["parallel"][1], out["serial"][1])
-    assert out["parallel"][2] == out["serial"][2]
+    serial = disk_serial_61
+    assert not serial["graphs"]
+    gpu_split(monkeypatch, launch)
+    split = disk_run("parallel", steps=61)
+    assert split["graphs"] is (launch == "graph")
+    assert serial["fn"].max() > 0  # it touched
+    np.testing.assert_array_equal(split["x"], serial["x"])
+    np.testing.assert_array_equal(split["fn"], serial["fn"])
+    assert split["energies"] == serial["energies"]
 
 
 def loaded_block(repeat_a_node: bool) -> Model:
@@ -215,7 +224,7 @@ def test_the_plate_and_the_loads_are_the_same_in_every_mode(monkeypatch, repeat_
         # past the ramp, every load is on its node (a node loaded twice carries both)
         total = sum(load.total for load in model.loads)
         np.testing.assert_allclose(model.f_load.to_numpy().sum(axis=0), total, rtol=1e-12)
-    top = loaded_block(repeat_a_node).plate.nodes
+    top = model.plate.nodes
     vy = out["serial"][1][top, 1]
     assert vy.min() < 0 and np.ptp(vy) == 0.0  # one velocity for the whole plate, downward
     for mode in ("team", "parallel", "graph"):
