@@ -1234,25 +1234,28 @@ def _fault_rates(geometry: BearingGeometry, shaft_hz: float, slip: float):
     return freqs, fundamentals, f_low, f_high
 
 
-def _diagnose_steady(
-    x,
-    fs: float,
-    geometry: BearingGeometry,
-    shaft_hz: float,
-    *,
-    slip: float,
-    n_harmonics: int,
-    alpha: float,
-    min_modulation: float,
-    nlevel: int,
-    use_kurtogram: bool,
-    use_drs: bool,
-    band_selector: str = "infogram",
-    correct_speed: bool = True,
-    taper: float = _TAPER_S,
-) -> Diagnosis:
-    """:func:`diagnose` at one shaft rate (Hz, or 1 in the order domain, where ``taper`` is
-    in revolutions)."""
+@dataclass(frozen=True)
+class _Setting:
+    """What every band's scoring needs: the fault frequencies at the rate analysed, the
+    combs tested and the detection rule's levels."""
+
+    freqs: FaultFrequencies
+    combs: dict[str, tuple[str, float, float]]
+    slip: float
+    n_harmonics: int
+    alpha_pair: float
+    min_modulation: float
+    f_high: float
+    f_max: float
+    half_window: float
+    shaft_tolerance: float
+
+
+def _check_options(
+    geometry, fs, shaft_hz, slip, n_harmonics, min_modulation, alpha, band_selector
+) -> tuple[float, float, float, int, float, float]:
+    """``(fs, shaft_hz, slip, n_harmonics, min_modulation, alpha)`` checked; a ValueError
+    naming the first bad one."""
     fs, shaft_hz = check_bearing_inputs(geometry, fs, shaft_hz)
     slip = check_positive(slip, "slip")
     if slip >= 0.1:
@@ -1264,25 +1267,27 @@ def _diagnose_steady(
         raise ValueError(f"alpha must be a probability below 1, got {alpha!r}")
     if band_selector not in _SELECTORS:
         raise ValueError(f"band_selector must be one of {_SELECTORS}, got {band_selector!r}")
-    freqs, fundamentals, f_low, f_high = _fault_rates(geometry, shaft_hz, slip)
-    if 2.0 * f_high >= _USABLE_FRACTION * fs / 2.0:
-        raise ValueError(
-            f"fs = {fs:g} Hz is too low for these fault frequencies (up to {f_high:.4g} Hz)"
-        )
-    x = check_varying(check_signal(x, fs))
-    min_len = int(math.ceil(20.0 * fs / f_low + 2 * taper * fs))
-    if x.size < min_len:
-        raise ValueError(
-            f"x is too short: {x.size} samples last {x.size / fs:.3g} s at fs = {fs:g} Hz; "
-            f"diagnose needs {min_len / fs:.3g} s (20 periods of {f_low:.4g} Hz, the slowest "
-            "fault frequency, and the tapers)"
-        )
+    return fs, shaft_hz, slip, n_harmonics, min_modulation, alpha
 
-    lines = speed_check(x, fs, shaft_hz, near=_SPEED_NEAR * slip, wide=_SPEED_TOLERANCE)
-    if correct_speed and lines.present:
-        freqs, fundamentals, f_low, f_high = _fault_rates(geometry, lines.found_hz, slip)
 
-    white = prewhiten(x, fs, taper)
+def _candidate_bands(
+    x: np.ndarray,
+    white: np.ndarray,
+    fs: float,
+    freqs: FaultFrequencies,
+    f_low: float,
+    f_high: float,
+    f_max: float,
+    n_harmonics: int,
+    nlevel: int,
+    use_kurtogram: bool,
+    band_selector: str,
+    use_drs: bool,
+) -> tuple[list[tuple[str, tuple[float, float], float, np.ndarray]], object, object]:
+    """``(candidates, kurtogram, infogram)``: the demodulation bands tried, each as ``(name,
+    band, kurtosis, signal)``: the whole prewhitened band, the infogram's best band and its
+    best apart from that one (or the kurtogram's best), the kurtogram's band of the random
+    part with ``use_drs``."""
     candidates: list[tuple[str, tuple[float, float], float, np.ndarray]] = [
         ("prewhitened", (0.0, fs / 2.0), 0.0, white)
     ]
@@ -1293,7 +1298,6 @@ def _diagnose_steady(
     # Demodulate above the fault frequencies' own range: below it the band holds the
     # deterministic low-frequency vibration, whose beats are not impacts.
     f_floor = (n_harmonics + 1) * f_high
-    f_max = (n_harmonics + 1) * f_high + freqs.shaft
     if use_kurtogram and levels >= 1:
         if band_selector == "infogram":
             # The band whose squared envelope holds the most lines over the race and spin
@@ -1323,76 +1327,87 @@ def _diagnose_steady(
             found = kurtogram_band(kg_random, min_bandwidth_hz=bw_min, min_low_hz=f_floor)
             if found is not None:
                 candidates.append(("drs-kurtogram", found[0], found[1], separated))
+    return candidates, kg_white, info
 
-    combs = _combs(freqs, fundamentals, x.size / fs)
-    # Union bound over the tests of every candidate band: each comb's pairs of harmonics,
-    # and each harmonic with its sideband where that is a detecting pair.
-    per_band = sum(
-        math.comb(n_harmonics, 2) + (n_harmonics if _sideband_pairs(fam, sb) else 0)
-        for fam, _, sb in combs.values()
-    )
-    alpha_pair = alpha / (len(candidates) * per_band)
-    half_window = _BACKGROUND_FRACTION * f_low
-    # Shaft harmonics stand where the masks put them once the record's own lines confirm
-    # the speed; otherwise anywhere within the slip tolerance.
-    shaft_tolerance = 0.0 if (correct_speed and lines.present) else slip
 
-    bands: list[BandScore] = []
-    for name, band, kurt, y in candidates:
-        f, z, m = normalised_envelope_spectrum(y, fs, _demod_band(band, fs), f_max, half_window)
-        masked = _shaft_mask(f, freqs.shaft)
-        z_masked = np.where(masked, 0.0, z)
-        width = band[1] - band[0]
-        scores: dict[str, FamilyScore | None] = {}
-        for comb, (family, f0, sb_hz) in combs.items():
-            n_harm = min(n_harmonics, int(_USABLE_FRACTION * width // (f0 * (1.0 + slip))))
-            if n_harm < 2:
-                scores[comb] = None
-                continue
-            score = _score_family(
-                family,
-                f,
-                z_masked,
-                masked,
-                m,
-                f0,
-                n_harm,
-                slip,
-                alpha_pair,
-                min_modulation,
-                band,
-                sb_hz,
-                _SLOWER.get(comb, (2, 3)),
-                freqs.shaft,
-                shaft_tolerance,
-            )
-            scores[comb] = replace(score, comb=comb)
-        other = _other_series_scan(
+def _score_band(
+    name: str, band: tuple[float, float], kurt: float, y: np.ndarray, fs: float, s: _Setting
+) -> BandScore:
+    """Every comb scored in one band's squared envelope spectrum, and the band's strongest
+    series at a rate no fault explains."""
+    f, z, m = normalised_envelope_spectrum(y, fs, _demod_band(band, fs), s.f_max, s.half_window)
+    masked = _shaft_mask(f, s.freqs.shaft)
+    z_masked = np.where(masked, 0.0, z)
+    width = band[1] - band[0]
+    scores: dict[str, FamilyScore | None] = {}
+    for comb, (family, f0, sb_hz) in s.combs.items():
+        n_harm = min(s.n_harmonics, int(_USABLE_FRACTION * width // (f0 * (1.0 + s.slip))))
+        if n_harm < 2:
+            scores[comb] = None
+            continue
+        score = _score_family(
+            family,
             f,
             z_masked,
-            freqs,
-            slip,
-            n_harmonics,
-            f_high,
-            width,
-            [sc for sc in scores.values() if sc is not None and sc.detected],
+            masked,
+            m,
+            f0,
+            n_harm,
+            s.slip,
+            s.alpha_pair,
+            s.min_modulation,
+            band,
+            sb_hz,
+            _SLOWER.get(comb, (2, 3)),
+            s.freqs.shaft,
+            s.shaft_tolerance,
         )
-        bands.append(BandScore(name, band, kurt, f, z, scores, *other))
+        scores[comb] = replace(score, comb=comb)
+    other = _other_series_scan(
+        f,
+        z_masked,
+        s.freqs,
+        s.slip,
+        s.n_harmonics,
+        s.f_high,
+        width,
+        [sc for sc in scores.values() if sc is not None and sc.detected],
+    )
+    return BandScore(name, band, kurt, f, z, scores, *other)
 
+
+@dataclass(frozen=True)
+class _Verdict:
+    """The verdict and what :class:`Diagnosis` reports beside it (``shown``: the band whose
+    other series is reported)."""
+
+    fault: str
+    band: tuple[float, float]
+    confidence: float
+    scores: dict[str, float]
+    best: dict[str, FamilyScore | None]
+    dominated: tuple[str, ...]
+    shown: BandScore
+
+
+def _verdict(bands: list[BandScore], s: _Setting) -> _Verdict:
+    """The verdict from every band's scores: each family's best comb in its best band, a
+    family weaker than its band's other series named only where it holds apart from it,
+    and among those detected the one whose own (unshared) lines carry most evidence."""
     by_band = {b.band: b for b in bands}
 
-    def share(s: FamilyScore) -> float:
+    def share(sc: FamilyScore) -> float:
         # The family's strength over that of the band's strongest other series.
-        ref = by_band[s.band].other_strength
-        return series_strength(s.z) / ref if ref > 0 else math.inf
+        ref = by_band[sc.band].other_strength
+        return series_strength(sc.z) / ref if ref > 0 else math.inf
 
-    def apart(s: FamilyScore) -> bool:
+    def apart(sc: FamilyScore) -> bool:
         # A family at least as strong as the other series stands; a weaker one only where
         # its detection holds on lines that series does not explain.
-        if share(s) >= 1.0:
+        if share(sc) >= 1.0:
             return True
         return _holds_apart(
-            s, by_band[s.band], freqs.shaft, alpha_pair, min_modulation, shaft_tolerance
+            sc, by_band[sc.band], s.freqs.shaft, s.alpha_pair, s.min_modulation, s.shaft_tolerance
         )
 
     best: dict[str, FamilyScore | None] = {}
@@ -1402,25 +1417,25 @@ def _diagnose_steady(
         options = [
             b.families[comb]
             for b in bands
-            for comb, (fam, _, _) in combs.items()
+            for comb, (fam, _, _) in s.combs.items()
             if fam == family and b.families[comb] is not None
         ]
         best[family] = max(
             options,
-            key=lambda s: (s.detected and apart(s), s.detected, s.evidence, s.near_miss),
+            key=lambda sc: (sc.detected and apart(sc), sc.detected, sc.evidence, sc.near_miss),
             default=None,
         )
-    detected = [s for s in best.values() if s is not None and s.detected]
-    dominated = tuple(s.family for s in detected if not apart(s))
-    detected = [s for s in detected if apart(s)]
+    detected = [sc for sc in best.values() if sc is not None and sc.detected]
+    dominated = tuple(sc.family for sc in detected if not apart(sc))
+    detected = [sc for sc in detected if apart(sc)]
     unique = {
-        s.family: _unique_evidence(s, [o for o in detected if o is not s], freqs.shaft)
-        for s in detected
+        sc.family: _unique_evidence(sc, [o for o in detected if o is not sc], s.freqs.shaft)
+        for sc in detected
     }
-    scores_out = {fam: (best[fam].evidence if best[fam] is not None else 0.0) for fam in FAMILIES}
+    scores = {fam: (best[fam].evidence if best[fam] is not None else 0.0) for fam in FAMILIES}
     if detected:
         # The verdict goes to the family whose own (unshared) lines carry most evidence.
-        ranked = sorted(detected, key=lambda s: (unique[s.family], s.evidence), reverse=True)
+        ranked = sorted(detected, key=lambda sc: (unique[sc.family], sc.evidence), reverse=True)
         win = ranked[0]
         second = unique[ranked[1].family] if len(ranked) > 1 else 0.0
         fault, band = win.family, win.band
@@ -1431,28 +1446,102 @@ def _diagnose_steady(
         # A family detected but dominated by another source's series came as close as its
         # share of that series allows.
         closeness = {
-            s.family: min(s.near_miss, share(s)) if s.detected else s.near_miss
-            for s in best.values()
-            if s is not None
+            sc.family: min(sc.near_miss, share(sc)) if sc.detected else sc.near_miss
+            for sc in best.values()
+            if sc is not None
         }
-        present = [s for s in best.values() if s is not None]
-        nearest = max(present, key=lambda s: (closeness[s.family], s.evidence), default=None)
+        present = [sc for sc in best.values() if sc is not None]
+        nearest = max(present, key=lambda sc: (closeness[sc.family], sc.evidence), default=None)
         band = nearest.band if nearest is not None else bands[0].band
         confidence = 1.0 - (closeness[nearest.family] if nearest is not None else 0.0)
     # The other series shown: in the band of the first family it set aside, else the verdict's.
     shown = by_band[best[dominated[0]].band if dominated else band]
+    return _Verdict(fault, band, float(confidence), scores, best, dominated, shown)
+
+
+def _diagnose_steady(
+    x,
+    fs: float,
+    geometry: BearingGeometry,
+    shaft_hz: float,
+    *,
+    slip: float,
+    n_harmonics: int,
+    alpha: float,
+    min_modulation: float,
+    nlevel: int,
+    use_kurtogram: bool,
+    use_drs: bool,
+    band_selector: str = "infogram",
+    correct_speed: bool = True,
+    taper: float = _TAPER_S,
+) -> Diagnosis:
+    """:func:`diagnose` at one shaft rate (Hz, or 1 in the order domain, where ``taper`` is
+    in revolutions): the speed checked on the record, the candidate bands, each band's
+    scores, the verdict."""
+    fs, shaft_hz, slip, n_harmonics, min_modulation, alpha = _check_options(
+        geometry, fs, shaft_hz, slip, n_harmonics, min_modulation, alpha, band_selector
+    )
+    freqs, fundamentals, f_low, f_high = _fault_rates(geometry, shaft_hz, slip)
+    if 2.0 * f_high >= _USABLE_FRACTION * fs / 2.0:
+        raise ValueError(
+            f"fs = {fs:g} Hz is too low for these fault frequencies (up to {f_high:.4g} Hz)"
+        )
+    x = check_varying(check_signal(x, fs))
+    min_len = int(math.ceil(20.0 * fs / f_low + 2 * taper * fs))
+    if x.size < min_len:
+        raise ValueError(
+            f"x is too short: {x.size} samples last {x.size / fs:.3g} s at fs = {fs:g} Hz; "
+            f"diagnose needs {min_len / fs:.3g} s (20 periods of {f_low:.4g} Hz, the slowest "
+            "fault frequency, and the tapers)"
+        )
+
+    lines = speed_check(x, fs, shaft_hz, near=_SPEED_NEAR * slip, wide=_SPEED_TOLERANCE)
+    if correct_speed and lines.present:
+        freqs, fundamentals, f_low, f_high = _fault_rates(geometry, lines.found_hz, slip)
+
+    white = prewhiten(x, fs, taper)
+    f_max = (n_harmonics + 1) * f_high + freqs.shaft
+    candidates, kg_white, info = _candidate_bands(
+        x, white, fs, freqs, f_low, f_high, f_max, n_harmonics, nlevel, use_kurtogram,
+        band_selector, use_drs,
+    )  # fmt: skip
+
+    combs = _combs(freqs, fundamentals, x.size / fs)
+    # Union bound over the tests of every candidate band: each comb's pairs of harmonics,
+    # and each harmonic with its sideband where that is a detecting pair.
+    per_band = sum(
+        math.comb(n_harmonics, 2) + (n_harmonics if _sideband_pairs(fam, sb) else 0)
+        for fam, _, sb in combs.values()
+    )
+    setting = _Setting(
+        freqs=freqs,
+        combs=combs,
+        slip=slip,
+        n_harmonics=n_harmonics,
+        alpha_pair=alpha / (len(candidates) * per_band),
+        min_modulation=min_modulation,
+        f_high=f_high,
+        f_max=f_max,
+        half_window=_BACKGROUND_FRACTION * f_low,
+        # Shaft harmonics stand where the masks put them once the record's own lines
+        # confirm the speed; otherwise anywhere within the slip tolerance.
+        shaft_tolerance=0.0 if (correct_speed and lines.present) else slip,
+    )
+    bands = [_score_band(name, band, kurt, y, fs, setting) for name, band, kurt, y in candidates]
+    v = _verdict(bands, setting)
     return Diagnosis(
-        fault=fault,
-        band=band,
-        scores=scores_out,
-        confidence=float(confidence),
+        fault=v.fault,
+        band=v.band,
+        scores=v.scores,
+        confidence=v.confidence,
         frequencies=freqs,
-        families=best,
+        families=v.best,
         bands=tuple(bands),
         kurtogram=kg_white,
         infogram=info,
         alpha=alpha,
-        dominated=dominated,
-        other_series=(shown.other_hz, shown.other_strength),
+        dominated=v.dominated,
+        other_series=(v.shown.other_hz, v.shown.other_strength),
         shaft_lines=lines,
     )
