@@ -42,8 +42,7 @@ import sys
 import types
 
 # Public name -> the module that defines it. The modules load on first use (PEP 562), so
-# ``python -m diagnostics --help`` and ``import diagnostics.files`` do not wait a second
-# for scipy.signal.
+# ``python -m diagnostics --help`` does not wait a second for scipy.signal.
 _EXPORTS = {
     "defect_size": ("DefectSize", "contact_speed", "estimate_defect_size",
                     "spall_length_from_travel"),

@@ -18,9 +18,9 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from diagnostics.files import atomic_path, output_folder, write_json
+from bearing_io.files import atomic_path, output_folder, write_json
+from bearing_io.progress import LOG_INTERVAL_S, RecordProgress
 from diagnostics.frequencies import BearingGeometry, bearing_frequencies
-from diagnostics.progress import LOG_INTERVAL_S, RecordProgress
 
 if TYPE_CHECKING:  # scipy loads when a command runs, not for --help
     from diagnostics.diagnose import Diagnosis

@@ -414,7 +414,7 @@ def compare_records(records: list[Record], out: str | os.PathLike) -> dict:
     dict
         :func:`compare_summary` with the figure file names under ``"figures"``.
     """
-    from diagnostics.files import write_json
+    from bearing_io.files import write_json
 
     out = Path(out)
     analyses = [analyse(r) for r in records]

@@ -22,7 +22,7 @@ from pathlib import Path
 import numpy as np
 import yaml
 
-from diagnostics.files import to_jsonable, write_json
+from bearing_io.files import to_jsonable, write_json
 from taichi_bearing.case import Case, case_to_dict
 from taichi_bearing.contact_pressure import raceway_patch
 from taichi_bearing.errors import InputError, SimulationError
@@ -213,7 +213,7 @@ def _fingerprint(case: Case, mesh: Mesh) -> str:
 
 
 def _write_case(case: Case, out: Path) -> None:
-    from diagnostics.files import atomic_path
+    from bearing_io.files import atomic_path
 
     path = out / CASE_FILE
     with atomic_path(path) as tmp:

@@ -24,8 +24,8 @@ from pathlib import Path
 import numpy as np
 import yaml
 
+from bearing_io.files import write_json
 from diagnostics import bearing_frequencies
-from diagnostics.files import write_json
 from taichi_bearing.case import apply_overrides, parse_case
 from taichi_bearing.output.histories import HistoryWriter, history_columns
 from taichi_bearing.output.summary import write_summary

@@ -14,7 +14,7 @@ import numpy as np
 import pytest
 from synthetic_run import make_synthetic_run
 
-from diagnostics.files import ensure_writable, output_folder
+from bearing_io.files import ensure_writable, output_folder
 
 ROOT = Path(__file__).resolve().parents[1]
 COARSE = str(ROOT / "cases/validation/coarse_spall.yaml")

@@ -258,7 +258,7 @@ def test_progress_lines_wait_for_their_interval(monkeypatch):
 def test_progress_is_a_bar_on_a_terminal():
     import io
 
-    from diagnostics.progress import RecordProgress
+    from bearing_io.progress import RecordProgress
 
     class Terminal(io.StringIO):
         def isatty(self):

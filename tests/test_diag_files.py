@@ -1,4 +1,4 @@
-"""diagnostics.files: atomic writes keep the target intact on failure."""
+"""bearing_io.files: atomic writes keep the target intact on failure."""
 
 import json
 import os
@@ -7,7 +7,7 @@ import stat
 import numpy as np
 import pytest
 
-from diagnostics.files import atomic_path, write_json
+from bearing_io.files import atomic_path, write_json
 
 
 def test_failed_write_leaves_previous_file_and_no_temp(tmp_path):

@@ -1,4 +1,5 @@
-"""diagnostics stands alone: importing any of its modules never imports taichi."""
+"""diagnostics stands alone: importing any of its modules (or of bearing_io, the file and
+progress helpers it shares with the simulator) never imports taichi."""
 
 from __future__ import annotations
 
@@ -11,11 +12,12 @@ ROOT = Path(__file__).resolve().parents[1]
 
 SCRIPT = """
 import importlib, pkgutil, sys
-import diagnostics
-names = sorted(m.name for m in pkgutil.iter_modules(diagnostics.__path__)
-               if not m.name.startswith("__"))
+import bearing_io, diagnostics
+names = sorted(m.name for pkg in (diagnostics, bearing_io)
+               for m in pkgutil.walk_packages(pkg.__path__, pkg.__name__ + ".")
+               if not m.name.rsplit(".", 1)[-1].startswith("__"))
 for name in names:
-    importlib.import_module("diagnostics." + name)
+    importlib.import_module(name)
 loaded = sorted(m for m in sys.modules if m.split(".")[0] in ("taichi", "taichi_bearing"))
 assert not loaded, loaded
 print(",".join(names))
@@ -34,5 +36,8 @@ def test_importing_every_diagnostics_module_leaves_taichi_unloaded():
     )
     assert result.returncode == 0, result.stderr
     imported = set(result.stdout.strip().split(","))
-    expected = {"_checks", "filters", "envelope", "spectral", "kurtosis", "io", "frequencies"}
+    expected = {
+        f"diagnostics.{m}"
+        for m in ("_checks", "filters", "envelope", "spectral", "kurtosis", "io", "frequencies")
+    } | {"bearing_io.files", "bearing_io.progress"}
     assert expected <= imported

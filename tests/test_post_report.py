@@ -15,7 +15,7 @@ import numpy as np
 import pytest
 from synthetic_run import make_synthetic_run
 
-from diagnostics.files import write_json
+from bearing_io.files import write_json
 from taichi_bearing.passages import passage_statistics
 from taichi_bearing.post.report import (
     APPENDIX,

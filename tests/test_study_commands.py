@@ -16,7 +16,7 @@ import pandas as pd
 import pytest
 from synthetic_run import make_synthetic_run
 
-from diagnostics.files import write_json
+from bearing_io.files import write_json
 from taichi_bearing.__main__ import main as cli
 from taichi_bearing.commands.convergence import level_axis
 from taichi_bearing.commands.passages import angle_axis

@@ -77,7 +77,7 @@ def forces_frame(dist: LoadDistribution) -> pd.DataFrame:
 
 
 def _write_csv(frame: pd.DataFrame, path: Path) -> Path:
-    from diagnostics.files import atomic_path
+    from bearing_io.files import atomic_path
 
     with atomic_path(path) as tmp:
         frame.to_csv(tmp, index=False, float_format="%.10g")
@@ -157,7 +157,7 @@ def run_analytic(
     import numpy as np
     import pandas as pd
 
-    from diagnostics.files import write_json
+    from bearing_io.files import write_json
     from taichi_bearing.bearing import fault_frequencies
     from taichi_bearing.post.analytic_figures import (
         plot_defect_passage,

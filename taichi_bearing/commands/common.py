@@ -30,7 +30,7 @@ def add_case_arguments(parser: argparse.ArgumentParser) -> None:
 
 
 def _input_error(check, *args) -> Path | None:
-    """Run one of the folder checks of :mod:`diagnostics.files` (their ValueError is the
+    """Run one of the folder checks of :mod:`bearing_io.files` (their ValueError is the
     command line's InputError: one line, exit status 2)."""
     try:
         return check(*args)
@@ -39,24 +39,24 @@ def _input_error(check, *args) -> Path | None:
 
 
 def check_empty(value: str | os.PathLike, option: str) -> Path:
-    """``value`` as a Path; empty is refused (:func:`diagnostics.files.nonempty_path`)."""
-    from diagnostics.files import nonempty_path  # numpy: not for --help
+    """``value`` as a Path; empty is refused (:func:`bearing_io.files.nonempty_path`)."""
+    from bearing_io.files import nonempty_path  # numpy: not for --help
 
     return _input_error(nonempty_path, value, option)
 
 
 def ensure_writable(folder: Path, option: str) -> None:
-    """Refuse a folder no file can be written in (:func:`diagnostics.files.ensure_writable`)."""
-    from diagnostics.files import ensure_writable as check
+    """Refuse a folder no file can be written in (:func:`bearing_io.files.ensure_writable`)."""
+    from bearing_io.files import ensure_writable as check
 
     _input_error(check, folder, option)
 
 
 def output_folder(value: str | os.PathLike, option: str = "--out") -> Path:
-    """Check and create an output folder (:func:`diagnostics.files.output_folder`): an
+    """Check and create an output folder (:func:`bearing_io.files.output_folder`): an
     empty path, a file, a folder that cannot be made or written in are refused in one
     line naming ``option``, with nothing left on disk."""
-    from diagnostics.files import output_folder as make
+    from bearing_io.files import output_folder as make
 
     return _input_error(make, value, option)
 

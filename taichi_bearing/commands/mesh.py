@@ -22,7 +22,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 
 def main(args: argparse.Namespace) -> int:
-    from diagnostics.files import write_json
+    from bearing_io.files import write_json
     from taichi_bearing.case import load_case_for_cli
     from taichi_bearing.mesh.bearing_mesh import build_bearing_mesh
     from taichi_bearing.mesh.quality import mesh_statistics

@@ -10,7 +10,7 @@ from pathlib import Path
 
 import numpy as np
 
-from diagnostics.files import atomic_path
+from bearing_io.files import atomic_path
 from taichi_bearing.mesh.grid import boundary_segments
 from taichi_bearing.modes.solve import ModalResult
 

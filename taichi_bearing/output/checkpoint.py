@@ -20,7 +20,7 @@ from pathlib import Path
 
 import numpy as np
 
-from diagnostics.files import atomic_path, to_jsonable
+from bearing_io.files import atomic_path, to_jsonable
 from taichi_bearing.errors import InputError
 
 __all__ = [

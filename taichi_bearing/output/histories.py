@@ -30,7 +30,7 @@ import pandas as pd
 import pyarrow as pa
 import pyarrow.parquet as pq
 
-from diagnostics.files import atomic_path
+from bearing_io.files import atomic_path
 from taichi_bearing.run_folder import (
     ENERGY_KINDS,
     HISTORIES_FILE,

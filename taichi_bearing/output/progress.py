@@ -22,8 +22,8 @@ from typing import TYPE_CHECKING, TextIO
 
 # One default and one terminal test for every progress display, the run's and the
 # diagnostics benchmark's.
-from diagnostics.progress import LOG_INTERVAL_S
-from diagnostics.progress import is_terminal as _is_tty
+from bearing_io.progress import LOG_INTERVAL_S
+from bearing_io.progress import is_terminal as _is_tty
 
 if TYPE_CHECKING:
     from tqdm import tqdm

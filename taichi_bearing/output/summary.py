@@ -10,7 +10,7 @@ import warnings
 from collections.abc import Mapping
 from pathlib import Path
 
-from diagnostics.files import write_json
+from bearing_io.files import write_json
 from taichi_bearing.run_folder import REQUIRED_SUMMARY_KEYS, SUMMARY_FILE
 
 __all__ = ["missing_summary_keys", "required_summary_keys", "write_summary"]

@@ -17,7 +17,7 @@ from pathlib import Path
 import meshio
 import numpy as np
 
-from diagnostics.files import atomic_path
+from bearing_io.files import atomic_path
 from taichi_bearing.mesh.types import Mesh
 from taichi_bearing.run_folder import FRAMES_DIR, PVD_FILE
 

@@ -10,7 +10,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
-from diagnostics.files import atomic_path  # noqa: E402
+from bearing_io.files import atomic_path  # noqa: E402
 from taichi_bearing.quasistatic import LoadDistribution, Spall  # noqa: E402
 
 __all__ = [

@@ -324,7 +324,7 @@ def animate_run(
     ValueError
         If fewer than 2 frames are selected, or a frame is unreadable.
     """
-    from diagnostics.files import atomic_path
+    from bearing_io.files import atomic_path
     from taichi_bearing.case import parse_case
     from taichi_bearing.output.vtk import read_pvd
     from taichi_bearing.run_folder import (

@@ -8,7 +8,7 @@ from pathlib import Path
 
 import numpy as np
 
-from diagnostics.files import atomic_path
+from bearing_io.files import atomic_path
 from taichi_bearing.mesh.types import Mesh
 
 # Part colours: outer ring and adapter steel blue, inner ring brass, rollers light grey

@@ -8,7 +8,7 @@ import time
 import warnings
 from pathlib import Path
 
-from diagnostics.files import write_json
+from bearing_io.files import write_json
 from taichi_bearing.case import Case
 from taichi_bearing.errors import InputError
 from taichi_bearing.output.summary import write_summary

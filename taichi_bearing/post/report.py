@@ -25,7 +25,7 @@ import re
 from dataclasses import dataclass
 from pathlib import Path
 
-from diagnostics.files import atomic_path
+from bearing_io.files import atomic_path
 from taichi_bearing.run_folder import (
     FIGURES_DIR,
     FIGURES_INDEX_FILE,

@@ -21,9 +21,9 @@ from pathlib import Path
 import numpy as np
 from matplotlib.figure import Figure
 
+from bearing_io.files import atomic_path, write_json
 from diagnostics import envelope_spectrum, kurtogram, notch_filter, psd
 from diagnostics import plots as dplots
-from diagnostics.files import atomic_path, write_json
 from diagnostics.resolution import (
     choose_nlevel,
     choose_nperseg,

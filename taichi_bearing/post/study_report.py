@@ -11,7 +11,7 @@ from pathlib import Path
 
 import pandas as pd
 
-from diagnostics.files import atomic_path
+from bearing_io.files import atomic_path
 from taichi_bearing.post.report import Heading, Para, Table, fmt, to_html, to_markdown
 
 __all__ = [

@@ -1,4 +1,5 @@
-"""Progress of a command over many records (``python -m diagnostics benchmark``).
+"""Progress of long work: a command over many records (``python -m diagnostics benchmark``),
+and the terminal test the simulator's bars share.
 
 On a terminal a tqdm bar counts the records done, with the one in hand; in a log or a pipe
 a plain line every ``log_every_s`` seconds of wall time, and a last line with the count and

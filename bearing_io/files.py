@@ -1,6 +1,6 @@
 """Safe file writing: results are written to a temporary name, then renamed into place,
 so a crash or Ctrl-C never leaves a half-written file; output folders are checked before
-anything is written to them. Shared by ``taichi_bearing``."""
+anything is written to them. Used by both ``diagnostics`` and ``taichi_bearing``."""
 
 from __future__ import annotations
 
