@@ -25,7 +25,7 @@ import math
 
 import numpy as np
 
-from diagnostics.frequencies import FaultFrequencies, bearing_frequencies
+from diagnostics import FaultFrequencies, bearing_frequencies
 from taichi_bearing.case import Bearing, Material
 
 __all__ = [

@@ -36,7 +36,7 @@ def analysis_band(kg, fs: float) -> tuple[tuple[float, float], str]:
     """The demodulation band of the run's envelope analysis, and how it was chosen: the
     fast kurtogram's best band above fs/16 (the re-stressing bursts ring high; the
     rolling's low-frequency response is left out), else fs/8 to 0.45 fs."""
-    from diagnostics.diagnose import kurtogram_band
+    from diagnostics import kurtogram_band
 
     band, how = None, ""
     if kg is not None:
@@ -65,8 +65,7 @@ def sideband_levels(x: np.ndarray, fs: float, bpfi_hz: float, shaft_hz: float) -
     ``lower_db``, ``upper_db`` and ``line_db`` (each over the background, dB) and
     ``ratio`` (the mean of the two sidebands over the line).
     """
-    from diagnostics import envelope_spectrum, kurtogram
-    from diagnostics.resolution import choose_nlevel
+    from diagnostics import choose_nlevel, envelope_spectrum, kurtogram
 
     x = np.asarray(x, dtype=float)
     nlevel = choose_nlevel(x.size)

@@ -16,7 +16,7 @@ from collections.abc import Sequence
 
 import numpy as np
 
-from diagnostics.envelope import envelope
+from diagnostics import envelope
 from taichi_bearing.passages import EXIT_BURST_S
 from taichi_bearing.run_folder import (
     RACES,

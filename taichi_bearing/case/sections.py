@@ -18,7 +18,7 @@ from taichi_bearing.case.material import Material
 from taichi_bearing.case.schema import Section, key, section_keys, sections_of
 
 if TYPE_CHECKING:
-    from diagnostics.frequencies import BearingGeometry
+    from diagnostics import BearingGeometry
 
 __all__ = [
     "SECTIONS",
@@ -109,7 +109,7 @@ class Bearing:
         """The geometry in the form ``diagnostics`` uses for fault frequencies."""
         # imported here: diagnostics pulls in scipy.signal, which the CLI's start-up and
         # the case checks do not need
-        from diagnostics.frequencies import BearingGeometry
+        from diagnostics import BearingGeometry
 
         return BearingGeometry(self.n_rollers, self.roller_diameter, self.pitch_diameter)
 

@@ -22,14 +22,17 @@ import numpy as np
 from matplotlib.figure import Figure
 
 from bearing_io.files import atomic_path, write_json
-from diagnostics import envelope_spectrum, kurtogram, notch_filter, psd
-from diagnostics import plots as dplots
-from diagnostics.resolution import (
+from diagnostics import (
     choose_nlevel,
     choose_nperseg,
     choose_sk_windows,
+    envelope_spectrum,
+    kurtogram,
+    notch_filter,
+    psd,
     third_octave_f_min,
 )
+from diagnostics import plots as dplots
 from taichi_bearing.modulation import analysis_band
 from taichi_bearing.post.spall_figures import (
     OVERLAP_FIGURE,
