@@ -25,7 +25,7 @@ import time
 from pathlib import Path
 
 from taichi_bearing.case import load_case
-from taichi_bearing.simulate import build_model, preload, stage_mesh
+from taichi_bearing.simulation.simulate import build_model, preload, stage_mesh
 
 
 def main() -> None:
@@ -36,7 +36,8 @@ def main() -> None:
     p.add_argument("--set", dest="overrides", action="append", default=[])
     args = p.parse_args()
 
-    from taichi_bearing.solver import Model, RunConfig, run_transient
+    from taichi_bearing.simulation import RunConfig, run_transient
+    from taichi_bearing.solver import Model
 
     case = load_case(args.case, args.overrides)
     rows = []

@@ -32,9 +32,13 @@ import numpy as np
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
+from taichi_bearing.case.material import Material  # noqa: E402
 from taichi_bearing.mesh.primitives import rectangle_mesh  # noqa: E402
-from taichi_bearing.solver.element import element_geometry, hourglass_stiffness  # noqa: E402
-from taichi_bearing.solver.materials import Material, materials_per_element  # noqa: E402
+from taichi_bearing.solver.element import (  # noqa: E402
+    element_geometry,
+    hourglass_stiffness,
+    materials_per_element,
+)
 
 STEEL = Material(210e9, 0.3, 7850.0)
 

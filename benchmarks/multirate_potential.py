@@ -40,9 +40,9 @@ def main(argv=None) -> int:
     args = parser.parse_args(argv)
 
     from taichi_bearing.case.load import load_case
-    from taichi_bearing.simulate import build_model, stage_mesh
+    from taichi_bearing.simulation.simulate import build_model, stage_mesh
     from taichi_bearing.solver.multirate import step_classes
-    from taichi_bearing.solver.step import ACTED_ON, SENSOR
+    from taichi_bearing.solver.step_phases import ACTED_ON, SENSOR
 
     case = load_case(args.case, args.sets)
     mesh, _ = stage_mesh(case)

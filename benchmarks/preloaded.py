@@ -35,12 +35,12 @@ def preloaded_model(
     build the model on ``arch`` with ``threads``, preload it, and set the transient's
     initial velocities and time step (the run's own, from the sample rate). Returns
     ``(case, mesh, built, preloaded)``: ``built`` the
-    :class:`taichi_bearing.simulate.BearingModel` (``.model``, ``.setup``, ``.contact``),
-    ``preloaded`` the preload's result (:func:`taichi_bearing.simulate.preload`) with its
+    :class:`taichi_bearing.simulation.simulate.BearingModel` (``.model``, ``.setup``, ``.contact``),
+    ``preloaded`` the preload's result (:func:`taichi_bearing.simulation.simulate.preload`) with its
     wall time ``wall_s``."""
     from taichi_bearing.case import load_case
-    from taichi_bearing.simulate import build_model, preload, stage_mesh
-    from taichi_bearing.solver.engine import steps_per_sample
+    from taichi_bearing.simulation.engine import steps_per_sample
+    from taichi_bearing.simulation.simulate import build_model, preload, stage_mesh
 
     case = load_case(case_path, list(overrides))
     mesh, _ = stage_mesh(case)

@@ -1,7 +1,7 @@
 """What machine code Taichi makes of the element forces on this CPU: vector width, fused
 multiply-adds, and the instruction mix of one element.
 
-Compiles a serial loop of :func:`~taichi_bearing.solver.element_law.element_forces` (a
+Compiles a serial loop of :func:`~taichi_bearing.solver.element_forces.element_forces` (a
 small square mesh, stiffness-proportional damping on) with Taichi's assembly printout
 (``print_kernel_asm``, into a temporary folder), and prints the CPU's model and family,
 which SIMD registers the loop uses (``xmm`` 128-bit, ``ymm`` 256, ``zmm`` 512), whether it
@@ -77,7 +77,7 @@ def main() -> int:
     from benchmarks.bench_solver import STEEL, square_mesh
     from taichi_bearing.solver import Model
     from taichi_bearing.solver.damping import StiffnessDamping
-    from taichi_bearing.solver.element_law import element_forces
+    from taichi_bearing.solver.element_forces import element_forces
 
     model = Model(square_mesh(400), STEEL, damping=StiffnessDamping(0.02, 2.0e4))
 

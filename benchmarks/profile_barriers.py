@@ -86,9 +86,9 @@ def main() -> int:
         p.error("--threads: a team needs 2 or more")
 
     from benchmarks.preloaded import preloaded_model
+    from taichi_bearing.simulation.engine import steps_per_sample
     from taichi_bearing.solver import stepping
     from taichi_bearing.solver.backend import init_taichi
-    from taichi_bearing.solver.engine import steps_per_sample
     from taichi_bearing.solver.team import TEAM_MAX_THREADS
 
     # Started here first (preloaded_model's own start is then a no-op) so that the counter

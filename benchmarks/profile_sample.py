@@ -30,7 +30,7 @@ def main() -> int:
     import taichi as ti
 
     from benchmarks.preloaded import preloaded_model
-    from taichi_bearing.solver.engine import steps_per_sample
+    from taichi_bearing.simulation.engine import steps_per_sample
 
     case, mesh, bm, pre = preloaded_model(args.case, args.overrides, args.arch, args.threads)
     model = bm.model

@@ -4,7 +4,7 @@ Builds the case (default ``cases/line_spall.yaml``), preloads it, and from the p
 state times, on ONE thread (the phases' own cost, without the team's barriers):
 
 - the whole step as the run steps it (``serial`` on one thread);
-- each phase of the step body alone (:mod:`taichi_bearing.solver.step`): CLEAR,
+- each phase of the step body alone (:mod:`taichi_bearing.solver.step_phases`): CLEAR,
   FORCES (elements and the contributors' shares), GATHER, NODES, SENSORS;
 - inside FORCES: the element forces with and without stiffness-proportional damping, the
   contact's queries alone;
@@ -49,10 +49,10 @@ def main() -> int:
 
     from benchmarks.preloaded import preloaded_model
     from taichi_bearing.case import load_case
-    from taichi_bearing.simulate import build_model
+    from taichi_bearing.simulation.simulate import build_model
     from taichi_bearing.solver import Model
-    from taichi_bearing.solver.element_law import element_forces
-    from taichi_bearing.solver.step import CLEAR, FORCES, GATHER, NODES, SENSORS
+    from taichi_bearing.solver.element_forces import element_forces
+    from taichi_bearing.solver.step_phases import CLEAR, FORCES, GATHER, NODES, SENSORS
     from taichi_bearing.solver.stepping import advance_phases
 
     case, mesh, bm, _ = preloaded_model(args.case, args.overrides)

@@ -2,7 +2,7 @@
 
 Builds the case (default ``cases/line_spall.yaml``) on the CPU with ``--threads`` threads,
 preloads it, and from the preloaded state times each phase of the step body
-(:mod:`taichi_bearing.solver.step`) two ways, side by side: on one thread (the phase
+(:mod:`taichi_bearing.solver.step_phases`) two ways, side by side: on one thread (the phase
 alone, serial) and by a team of ``--threads`` members (each its share, then the spin
 barrier, as team stepping runs it); then the whole step both ways. The ratio is the
 phase's speed-up on the team: what its threads gain, less the barriers' cost and any
@@ -31,7 +31,7 @@ def main() -> int:
         p.error("--threads: a team needs 2 or more")
 
     from benchmarks.preloaded import preloaded_model
-    from taichi_bearing.solver.step import CLEAR, FORCES, GATHER, NODES, SENSORS
+    from taichi_bearing.solver.step_phases import CLEAR, FORCES, GATHER, NODES, SENSORS
     from taichi_bearing.solver.stepping import advance_phases
 
     case, mesh, bm, _ = preloaded_model(args.case, args.overrides, "cpu", args.threads)

@@ -7,14 +7,14 @@ the coarse validation case: the default bearing meshed with 1 mm surface element
 by 0.3 mm spall at 12 o'clock, 50 kN at 1000 rpm, 2 ms that carry roller 0 into the
 spall and out of it. It takes about a minute on one CPU thread: mesh, preload by dynamic
 relaxation, spin-up to the ideal rolling velocities, the transient. Then the run folder is
-read back with :func:`taichi_bearing.run_folder.load_run`.
+read back with :func:`taichi_bearing.output.run_folder.load_run`.
 """
 
 # %%
 # Run the case
 # ------------
-# :func:`taichi_bearing.simulate.run_case` is what the command line runs. Frames (VTU) and
-# the figures and report are left out here; the histories and ``summary.json`` are
+# :func:`taichi_bearing.pipeline.run_case` is what the command line runs. Frames
+# (VTU) and the figures and report are left out here; the histories and ``summary.json`` are
 # written as always (``summary.json`` holds the run's own checks: on this short run of
 # one passage, those that need two passages or a longer record are reported, not met).
 import tempfile
@@ -25,8 +25,9 @@ import numpy as np
 
 import diagnostics as dg
 from taichi_bearing.case import load_case
-from taichi_bearing.run_folder import acceleration_signal, load_run, roller_force_column
-from taichi_bearing.simulate import run_case
+from taichi_bearing.output.layout import roller_force_column
+from taichi_bearing.output.run_folder import acceleration_signal, load_run
+from taichi_bearing.pipeline import run_case
 
 
 def repository_root() -> Path:

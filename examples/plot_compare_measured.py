@@ -31,7 +31,7 @@ import diagnostics as dg
 from diagnostics.compare import Record, compare_records, measured_record, summary_lines
 from taichi_bearing.case import load_case
 from taichi_bearing.commands.compare import simulated_record
-from taichi_bearing.simulate import run_case
+from taichi_bearing.pipeline import run_case
 
 
 def repository_root() -> Path:

@@ -5,7 +5,7 @@ one turning at the shaft speed. A roller carries a load-zone force (15 kN cos^2 
 angle, none beyond 90 degrees) except while its contact is over the spall, where it
 carries nothing; on the inner raceway it returns with a short 30 % burst. Every event
 time and passage angle follows from the case, so tests can check what
-:mod:`taichi_bearing.passages` finds against them.
+:mod:`taichi_bearing.checks.passages` finds against them.
 """
 
 from __future__ import annotations
@@ -15,7 +15,7 @@ import math
 import numpy as np
 import pandas as pd
 
-from taichi_bearing.bearing import cage_speed
+from taichi_bearing.analytic.bearing import cage_speed
 
 Q_MAX = 15e3  # N
 

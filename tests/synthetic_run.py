@@ -1,4 +1,4 @@
-"""A small run folder (the layout of taichi_bearing.run_folder) built from a synthetic
+"""A small run folder (the layout of taichi_bearing.output.run_folder) built from a synthetic
 signal with known content.
 
 Used by the post-processing and compare tests: the histories, frames and summary are

@@ -19,9 +19,9 @@ from PIL import Image
 from scipy.spatial import cKDTree
 
 from taichi_bearing.__main__ import main
+from taichi_bearing.output.layout import FRAMES_DIR, PVD_FILE
 from taichi_bearing.output.vtk import read_pvd
 from taichi_bearing.post import animation
-from taichi_bearing.run_folder import FRAMES_DIR, PVD_FILE
 
 ROOT = Path(__file__).resolve().parents[1]
 COARSE = ROOT / "cases" / "validation" / "coarse_spall.yaml"
@@ -125,7 +125,7 @@ def test_default_window_holds_the_spall_and_a_few_rollers(run_dir, tmp_path):
 
 def test_scale_one_draws_the_true_deformed_geometry(run_dir):
     from taichi_bearing.case import parse_case
-    from taichi_bearing.run_folder import read_case_dict
+    from taichi_bearing.output.run_folder import read_case_dict
 
     time, name = _frames(run_dir)[-1]
     frame = animation.read_frame(run_dir / FRAMES_DIR / name, time)

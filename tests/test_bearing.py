@@ -8,7 +8,7 @@ import math
 import numpy as np
 import pytest
 
-from taichi_bearing.bearing import (
+from taichi_bearing.analytic.bearing import (
     cage_speed,
     contact_radius,
     effective_modulus,

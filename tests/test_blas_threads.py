@@ -22,9 +22,9 @@ import numpy as np
 from taichi_bearing.case import load_case
 from taichi_bearing.solver.element import (assembled_matrix, assembled_max_frequency,
     element_geometry, element_stiffness, hourglass_stiffness)
-from taichi_bearing.solver.materials import materials_per_element
-from taichi_bearing.starter import build_setup
-from taichi_bearing.simulate import stage_mesh
+from taichi_bearing.solver.element import materials_per_element
+from taichi_bearing.simulation.starter import build_setup
+from taichi_bearing.simulation.simulate import stage_mesh
 case = load_case("cases/validation/coarse_spall.yaml")
 mesh, _ = stage_mesh(case)
 X, E = np.asarray(mesh.nodes, float), np.asarray(mesh.elements, np.int64)

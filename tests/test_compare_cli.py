@@ -18,7 +18,7 @@ from synthetic_run import make_synthetic_run
 from diagnostics import BearingGeometry, bearing_frequencies
 from diagnostics.compare import analyse
 from taichi_bearing.commands.compare import RESTRESS_LABEL, simulated_record
-from taichi_bearing.run_folder import HISTORIES_FILE, HISTORIES_PARTS_DIR, SUMMARY_FILE
+from taichi_bearing.output.layout import HISTORIES_FILE, HISTORIES_PARTS_DIR, SUMMARY_FILE
 
 ROOT = Path(__file__).resolve().parents[1]
 CWRU_BEARING = "n=9,d=7.94mm,D=39.04mm"

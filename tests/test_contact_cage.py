@@ -6,13 +6,13 @@ speed drives a cage at rest up to its own angular speed, without adding energy."
 import numpy as np
 import pytest
 
+from taichi_bearing.case.material import Material
 from taichi_bearing.mesh.primitives import disk_mesh
 from taichi_bearing.solver.backend import init_taichi
 from taichi_bearing.solver.cage import RigidCage
 from taichi_bearing.solver.contact import ContactParameters
 from taichi_bearing.solver.contributor import ForceContributor
 from taichi_bearing.solver.loads import PrescribedRotation
-from taichi_bearing.solver.materials import Material
 from taichi_bearing.solver.model import Model
 
 R_PITCH, R_ROLLER, CLEARANCE = 0.03, 0.005, 20e-6

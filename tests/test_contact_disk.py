@@ -8,15 +8,16 @@ import numpy as np
 import pytest
 import taichi as ti
 
+from taichi_bearing.case.material import Material
+from taichi_bearing.mesh.bodies import merge_meshes
 from taichi_bearing.mesh.primitives import disk_mesh, rectangle_mesh
 from taichi_bearing.solver.backend import init_taichi
 from taichi_bearing.solver.contact import ContactPair, ContactParameters, PenaltyContact
-from taichi_bearing.solver.contact_bodies import merge_meshes
 from taichi_bearing.solver.contact_search import SCAN_BLOCK
 from taichi_bearing.solver.contributor import ForceContributor, add_force
 from taichi_bearing.solver.loads import FixedNodes, uniform_load
-from taichi_bearing.solver.materials import Material
-from taichi_bearing.solver.model import Model, rigid_velocity_field
+from taichi_bearing.solver.model import Model
+from taichi_bearing.solver.model_setup import rigid_velocity_field
 from taichi_bearing.solver.relaxation import relax
 
 STEEL = Material(210e9, 0.3, 7850.0)

@@ -5,11 +5,11 @@
 import numpy as np
 import pytest
 
+from taichi_bearing.case.material import Material
+from taichi_bearing.mesh.bodies import cylinder_cap_mesh, graded_block_mesh, merge_meshes
 from taichi_bearing.solver.backend import init_taichi
 from taichi_bearing.solver.contact import ContactPair, ContactParameters, PenaltyContact
-from taichi_bearing.solver.contact_bodies import cylinder_cap_mesh, graded_block_mesh, merge_meshes
 from taichi_bearing.solver.loads import FixedNodes, HeldDirection, line_load
-from taichi_bearing.solver.materials import Material
 from taichi_bearing.solver.model import Model
 from taichi_bearing.solver.relaxation import relax
 

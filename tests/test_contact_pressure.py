@@ -6,7 +6,7 @@ import math
 import numpy as np
 import pytest
 
-from taichi_bearing.contact_pressure import nodal_patch
+from taichi_bearing.analytic.contact_pressure import nodal_patch
 
 
 @pytest.mark.parametrize(("h_over_b", "tol_b", "tol_p"), [(0.05, 0.01, 0.01), (0.25, 0.05, 0.05)])

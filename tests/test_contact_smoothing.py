@@ -6,13 +6,13 @@ block without the facet ripple of the polygon."""
 import numpy as np
 import pytest
 
+from taichi_bearing.case.material import Material
+from taichi_bearing.mesh.bodies import merge_meshes
 from taichi_bearing.mesh.primitives import disk_mesh, rectangle_mesh
 from taichi_bearing.solver.backend import init_taichi
 from taichi_bearing.solver.contact import ContactPair, ContactParameters, PenaltyContact
-from taichi_bearing.solver.contact_bodies import merge_meshes
 from taichi_bearing.solver.contact_setup import segment_curvature
 from taichi_bearing.solver.loads import FixedNodes, uniform_load
-from taichi_bearing.solver.materials import Material
 from taichi_bearing.solver.model import Model
 from taichi_bearing.solver.relaxation import relax
 

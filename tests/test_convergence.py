@@ -9,7 +9,7 @@ import math
 
 import pytest
 
-from taichi_bearing.convergence import (
+from taichi_bearing.studies.convergence import (
     DYNAMIC_LIMIT,
     ORDER_RANGE,
     STATIC_LIMIT,

@@ -14,13 +14,13 @@ import pytest
 import diagnostics
 
 SIMULATOR = [
-    "taichi_bearing.bearing",
-    "taichi_bearing.convergence",
+    "taichi_bearing.analytic.bearing",
+    "taichi_bearing.studies.convergence",
     "taichi_bearing.output.checkpoint",
     "taichi_bearing.output.histories",
     "taichi_bearing.output.progress",
-    "taichi_bearing.quasistatic",
-    "taichi_bearing.study_cells",
+    "taichi_bearing.analytic.quasistatic",
+    "taichi_bearing.studies.cells",
 ]
 MODULES = (
     ["diagnostics"]

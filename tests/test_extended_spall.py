@@ -12,12 +12,12 @@ import numpy as np
 import pytest
 from synthetic_passages import rolling_histories
 
-from taichi_bearing.bearing import cage_speed, fault_frequencies
+from taichi_bearing.analytic.bearing import cage_speed, fault_frequencies
+from taichi_bearing.analytic.quasistatic import solve_case, spall_from_case
 from taichi_bearing.case import ExtendedDefectWarning, load_case
 from taichi_bearing.checks import defect_size_check
-from taichi_bearing.passages import detect_spall_events
+from taichi_bearing.checks.passages import detect_spall_events
 from taichi_bearing.post.spall_figures import overlaps
-from taichi_bearing.quasistatic import solve_case, spall_from_case
 
 EXTENDED = "cases/validation/extended_spall.yaml"
 
@@ -116,7 +116,7 @@ def test_defect_size_check_is_not_applied_to_an_extended_spall(case):
 
 @pytest.fixture(scope="module")
 def extended_run(case, tmp_path_factory):
-    from taichi_bearing.simulate import run_case
+    from taichi_bearing.pipeline import run_case
 
     out = tmp_path_factory.mktemp("extended_run")
     summary = run_case(case, out, threads=1, quiet=True, post=False)
@@ -171,8 +171,8 @@ def test_the_report_shows_the_two_inside_unloaded_and_their_neighbours_taking_th
     bounces) against the ~10 kN the healthy bearing gives them, the quasi-static model
     unloads them and balances the load, and the neighbours either side (rollers 18 and
     1) take more than in the healthy bearing."""
+    from taichi_bearing.output.run_folder import load_run
     from taichi_bearing.post.spall_figures import load_sharing
-    from taichi_bearing.run_folder import load_run
 
     out, summary = extended_run
     _, caption, values = load_sharing(load_run(out))

@@ -11,24 +11,24 @@ import pytest
 from synthetic_passages import Q_MAX, rolling_histories
 from test_spall_profile import brute_force_drop
 
-from taichi_bearing.bearing import cage_speed, fault_frequencies
-from taichi_bearing.case import load_case
-from taichi_bearing.checks import inner_restress_check, restress_check
-from taichi_bearing.inner_race import (
-    load_zone,
+from taichi_bearing.analytic.bearing import cage_speed, fault_frequencies
+from taichi_bearing.analytic.inner_race import (
     passage_angles,
     passage_spall_angles,
     sideband_ratio,
 )
-from taichi_bearing.passages import detect_spall_events, spall_passages
-from taichi_bearing.quasistatic import (
+from taichi_bearing.analytic.quasistatic import (
     _corner_drop,
     defect_sweep,
+    load_zone,
     solve_case,
     spall_from_case,
 )
-from taichi_bearing.roller_path import centre_drop
-from taichi_bearing.spall_profile import SpallProfile
+from taichi_bearing.case import load_case
+from taichi_bearing.checks import inner_restress_check, restress_check
+from taichi_bearing.checks.passages import detect_spall_events, spall_passages
+from taichi_bearing.geometry.roller_path import centre_drop
+from taichi_bearing.geometry.spall_profile import SpallProfile
 
 INNER = "cases/validation/inner_spall.yaml"
 

@@ -69,7 +69,7 @@ def test_warning_names_the_part_that_does_not_resolve_the_band():
 
 def test_run_warns_in_one_line_right_after_meshing(default_case_path, tmp_path, monkeypatch):
     """The run's first lines: the mesh, then the warning (the model is not built here)."""
-    import taichi_bearing.simulate as simulate
+    import taichi_bearing.simulation.simulate as simulate
 
     class Stop(Exception):
         pass
@@ -84,11 +84,11 @@ def test_run_warns_in_one_line_right_after_meshing(default_case_path, tmp_path, 
     case = load_case(coarse, ["run.sample_rate_Hz=200000"])
     lines = []
     with pytest.raises(Stop):
-        simulate.run_case(case, tmp_path, quiet=True, log=lines.append)
+        simulate.simulate(case, tmp_path, quiet=True, log=lines.append)
     assert len(lines) == 1 and lines[0].startswith("warning: mesh: the analysed band reaches 100")
     lines.clear()
     with pytest.raises(Stop):
-        simulate.run_case(load_case(coarse), tmp_path, quiet=True, log=lines.append)
+        simulate.simulate(load_case(coarse), tmp_path, quiet=True, log=lines.append)
     assert lines == []  # 50 kHz: resolved
 
 

@@ -16,19 +16,17 @@ import pytest
 from synthetic_run import make_synthetic_run
 
 from bearing_io.files import write_json
-from taichi_bearing.passages import passage_statistics
+from taichi_bearing.checks.passages import passage_statistics
+from taichi_bearing.output.layout import ANIMATION_FILES
+from taichi_bearing.post.document import Heading, Para, fmt
 from taichi_bearing.post.report import (
     APPENDIX,
     APPENDIX_TITLE,
     SECTIONS,
-    Heading,
-    Para,
-    fmt,
     report_blocks,
     write_report,
 )
 from taichi_bearing.post.run_figures import FIGURE_NAMES
-from taichi_bearing.run_folder import ANIMATION_FILES
 
 # per-passage signatures of the synthetic run's three passages (roller 0, 1, 2)
 SIGNATURES = {

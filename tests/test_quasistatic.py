@@ -8,9 +8,8 @@ import math
 import numpy as np
 import pytest
 
-from taichi_bearing.bearing import palmgren_stiffness
-from taichi_bearing.case import load_case
-from taichi_bearing.quasistatic import (
+from taichi_bearing.analytic.bearing import palmgren_stiffness
+from taichi_bearing.analytic.quasistatic import (
     Spall,
     _corner_drop,
     analytical_roller_forces,
@@ -23,6 +22,7 @@ from taichi_bearing.quasistatic import (
     stribeck_ratio,
     support_fraction,
 )
+from taichi_bearing.case import load_case
 
 
 @pytest.fixture(scope="module")

@@ -9,7 +9,6 @@ import pandas as pd
 import pytest
 
 from taichi_bearing.checks import (
-    EXIT_BURST_LIMIT,
     exit_burst_check,
     flexible_reference_checks,
     noise_check,
@@ -17,6 +16,7 @@ from taichi_bearing.checks import (
     passage_signature,
     static_force_checks,
 )
+from taichi_bearing.checks.common import EXIT_BURST_LIMIT
 
 # a load zone like the default case's: Q_max 15 kN, a zone-edge roller at 2.5 kN
 REFERENCE = np.array([15e3, 14.5e3, 8.5e3, 2.5e3, 0.0, 0.0, 0.0, 0.0])
@@ -166,10 +166,10 @@ def test_checks_are_post_processing_without_mesh_solver_or_taichi():
 
     root = Path(__file__).resolve().parents[1]
     script = (
-        "import sys, taichi_bearing.checks, taichi_bearing.run_folder\n"
+        "import sys, taichi_bearing.checks, taichi_bearing.output.run_folder\n"
         "bad = sorted(m for m in sys.modules if m.split('.')[0] == 'taichi' or m.startswith(("
-        "'taichi_bearing.mesh', 'taichi_bearing.solver', 'taichi_bearing.static_reference', "
-        "'taichi_bearing.starter')))\n"
+        "'taichi_bearing.mesh', 'taichi_bearing.solver', "
+        "'taichi_bearing.simulation.static_reference', 'taichi_bearing.simulation.starter')))\n"
         "print(','.join(bad))\n"
     )
     env = dict(os.environ, PYTHONPATH=str(root))
@@ -205,7 +205,7 @@ def test_passage_timings_and_frequency_of_a_known_history():
 
 
 def test_passage_statistics_are_median_and_quartiles_over_the_passages():
-    from taichi_bearing.passages import passage_statistics
+    from taichi_bearing.checks.passages import passage_statistics
 
     sigs = [{"exit_impulses": v, "exit_impulse_width_s": w}
             for v, w in ((1, np.nan), (3, 2e-5), (5, 4e-5), (7, 6e-5), (9, 8e-5))]  # fmt: skip

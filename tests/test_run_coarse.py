@@ -12,10 +12,10 @@ import shutil
 import numpy as np
 import pytest
 
+from taichi_bearing.analytic.quasistatic import analytical_roller_forces
 from taichi_bearing.case import load_case
 from taichi_bearing.output.histories import read_histories
-from taichi_bearing.quasistatic import analytical_roller_forces
-from taichi_bearing.starter import rolling_rates
+from taichi_bearing.simulation.starter import rolling_rates
 
 COARSE = "cases/validation/coarse_spall.yaml"
 THREADS = 1  # the same histories as on any thread count; no spinning team on a shared VM
@@ -23,7 +23,7 @@ THREADS = 1  # the same histories as on any thread count; no spinning team on a 
 
 @pytest.fixture(scope="module")
 def coarse_run(tmp_path_factory):
-    from taichi_bearing.simulate import run_case
+    from taichi_bearing.pipeline import run_case
 
     case = load_case(COARSE)
     out = tmp_path_factory.mktemp("coarse_run")
@@ -128,7 +128,7 @@ def test_entry_and_exit_happen_where_the_geometry_puts_them(coarse_run):
     on the roller would have to rise above the floor to touch it). Exit: the roller meets
     the exit edge once its top, risen by h into the notch (recorded), is within
     sqrt(2 r (d - h)) of the edge, and not after its centre line has crossed it."""
-    from taichi_bearing.bearing import contact_radius, effective_modulus, hertz_half_width
+    from taichi_bearing.analytic.bearing import contact_radius, effective_modulus, hertz_half_width
 
     case, _, summary, hist = coarse_run
     ev = summary["events"][0]
@@ -158,7 +158,7 @@ def test_entry_and_exit_happen_where_the_geometry_puts_them(coarse_run):
 
 
 def test_resume_continues_like_the_uninterrupted_run(coarse_run, tmp_path):
-    from taichi_bearing.simulate import run_case
+    from taichi_bearing.pipeline import run_case
 
     case, out, summary, hist = coarse_run
     copy = tmp_path / "resumed"
@@ -201,7 +201,7 @@ def test_preload_q_max_matches_the_flexible_ring_reference(coarse_run):
 
 @pytest.fixture(scope="module")
 def coarse_multirate_run(tmp_path_factory):
-    from taichi_bearing.simulate import run_case
+    from taichi_bearing.pipeline import run_case
 
     case = load_case(COARSE, ["run.multirate_levels=2"])
     out = tmp_path_factory.mktemp("coarse_multirate_run")
@@ -234,7 +234,7 @@ def test_multirate_run_keeps_the_passage_and_the_energy(coarse_run, coarse_multi
 def test_multirate_resume_continues_bit_for_bit(coarse_multirate_run, tmp_path):
     """A multi-rate run resumed from its checkpoint (a sample's end, where every class
     moves) recomputes the same rows, bit for bit."""
-    from taichi_bearing.simulate import run_case
+    from taichi_bearing.pipeline import run_case
 
     case, out, _, hist = coarse_multirate_run
     copy = tmp_path / "resumed"

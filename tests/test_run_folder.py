@@ -1,4 +1,4 @@
-"""taichi_bearing.run_folder: the loader reads a finished run, a run killed with its
+"""taichi_bearing.output.run_folder: the loader reads a finished run, a run killed with its
 histories only in parts, and says what a folder lacks for the checks."""
 
 from __future__ import annotations
@@ -12,7 +12,7 @@ import pytest
 from synthetic_run import make_synthetic_run
 
 from taichi_bearing.output.histories import HistoryWriter, read_histories
-from taichi_bearing.run_folder import (
+from taichi_bearing.output.layout import (
     CASE_FILE,
     HISTORIES_FILE,
     HISTORIES_PARTS_DIR,
@@ -21,8 +21,10 @@ from taichi_bearing.run_folder import (
     REFERENCE_KEY,
     ROLLING_RATES_KEY,
     SUMMARY_FILE,
-    acceleration_signal,
     history_columns,
+)
+from taichi_bearing.output.run_folder import (
+    acceleration_signal,
     load_run,
     missing_for_checks,
     passage_events,

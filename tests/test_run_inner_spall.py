@@ -13,11 +13,11 @@ import math
 import numpy as np
 import pytest
 
-from taichi_bearing.bearing import cage_speed, fault_frequencies
+from taichi_bearing.analytic.bearing import cage_speed, fault_frequencies
+from taichi_bearing.analytic.inner_race import passage_spall_angles
+from taichi_bearing.analytic.quasistatic import analytical_roller_forces
 from taichi_bearing.case import load_case
-from taichi_bearing.inner_race import passage_spall_angles
 from taichi_bearing.output.histories import read_histories
-from taichi_bearing.quasistatic import analytical_roller_forces
 
 INNER = "cases/validation/inner_spall.yaml"
 
@@ -29,7 +29,7 @@ def case():
 
 @pytest.fixture(scope="module")
 def inner_run(case, tmp_path_factory):
-    from taichi_bearing.simulate import run_case
+    from taichi_bearing.pipeline import run_case
 
     out = tmp_path_factory.mktemp("inner_run")
     summary = run_case(case, out, threads=1, quiet=True, post=False)
@@ -43,7 +43,7 @@ def test_the_notch_is_cut_in_the_inner_ring_and_turns_with_it(case, inner_run):
     import meshio
 
     from taichi_bearing.output.vtk import read_pvd
-    from taichi_bearing.simulate import stage_mesh
+    from taichi_bearing.simulation.simulate import stage_mesh
 
     out, _, _ = inner_run
     mesh, _ = stage_mesh(case)

@@ -6,14 +6,14 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from taichi_bearing.bearing import fault_frequencies
+from taichi_bearing.analytic.bearing import fault_frequencies
 from taichi_bearing.case import load_case
 
 pytestmark = pytest.mark.slow
 
 
 def test_restress_events_are_one_bpfo_period_apart(tmp_path):
-    from taichi_bearing.simulate import run_case
+    from taichi_bearing.pipeline import run_case
 
     # 9 ms at 1000 rpm: roller 0 and then roller 19 (one pitch behind) leave the spall
     case = load_case(

@@ -15,17 +15,17 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
+from taichi_bearing.analytic.quasistatic import analytical_roller_forces
 from taichi_bearing.case import load_case
 from taichi_bearing.checks import flexible_reference_checks, static_force_checks
-from taichi_bearing.quasistatic import analytical_roller_forces
-from taichi_bearing.starter import build_setup, outer_surface_nodes
+from taichi_bearing.simulation.starter import build_setup, outer_surface_nodes
 
 HOUSING = "cases/validation/rigid_housing.yaml"
 THREADS = 1  # the same histories as on any thread count; no spinning team on a shared VM
 
 
 def _preload(case):
-    from taichi_bearing.simulate import build_model, preload, stage_mesh
+    from taichi_bearing.simulation.simulate import build_model, preload, stage_mesh
 
     mesh, _ = stage_mesh(case)
     return preload(build_model(case, mesh, "cpu", THREADS))
@@ -100,7 +100,7 @@ def test_rigid_housing_preload_matches_harris():
 
 def _rings(overrides):
     from taichi_bearing.mesh import build_bearing_mesh, spec_from_case
-    from taichi_bearing.static_reference import ring_compliance
+    from taichi_bearing.simulation.static_reference import ring_compliance
 
     case = load_case(HOUSING, overrides)
     return case, ring_compliance(case, build_bearing_mesh(spec_from_case(case)))
@@ -119,7 +119,7 @@ def adapter_rings():
 @pytest.mark.parametrize("clearance_mm", [0.0, 0.02, -0.005])
 def test_reference_with_rigid_rings_is_harris(housing_rings, clearance_mm):
     """With no ring compliance the spring model is the analytical load distribution."""
-    from taichi_bearing.static_reference import RingCompliance, solve_springs
+    from taichi_bearing.simulation.static_reference import RingCompliance, solve_springs
 
     case, rings = housing_rings
     case = load_case(HOUSING, [f"bearing.radial_clearance_mm={clearance_mm}"])
@@ -153,7 +153,7 @@ def test_ring_compliance_is_reciprocal_and_follows_the_support(housing_rings, ad
 def test_reference_with_housing_is_close_to_harris_and_with_adapter_is_not(
     housing_rings, adapter_rings
 ):
-    from taichi_bearing.static_reference import solve_springs
+    from taichi_bearing.simulation.static_reference import solve_springs
 
     case, housing = housing_rings
     an = analytical_roller_forces(case)
@@ -174,7 +174,7 @@ def test_reference_with_housing_is_close_to_harris_and_with_adapter_is_not(
 
 
 def test_reference_roller_over_the_spall_carries_nothing():
-    from taichi_bearing.static_reference import reference_roller_forces
+    from taichi_bearing.simulation.static_reference import reference_roller_forces
 
     case = load_case("cases/validation/coarse_spall.yaml", ["run.first_roller_angle_deg=0"])
     ref = reference_roller_forces(case)
@@ -193,7 +193,7 @@ def test_coarse_adapter_preload_follows_the_flexible_reference_not_harris():
     the flexible-ring reference's: measured on 1 mm elements, FE vs reference +0.1 % at
     +-18 deg, +9.6 % at +-36 deg, -6.2 % at 0 deg; against Harris +40 % to +45 %, and
     nothing beyond +-36 deg where Harris loads rollers out to +-72 deg."""
-    from taichi_bearing.static_reference import reference_roller_forces
+    from taichi_bearing.simulation.static_reference import reference_roller_forces
 
     # the adapter-hung ring creeps at KE ratios below ~1e-6; 1e-5 balances W within 0.1 %
     case = load_case(HOUSING, ["bearing.outer_support=adapter", "preload.ke_ratio_tol=1e-5"])

@@ -1,5 +1,5 @@
 """The damped elements take their strain rate from their strain history
-(``element_law.seed_strain_history``): the Green strain and hourglass sum of their last
+(``element_forces.seed_strain_history``): the Green strain and hourglass sum of their last
 evaluation. Checked against the law written on the nodes' velocities, computed here in
 numpy: exactly (to rounding) on the step after the history is seeded from the
 velocities (a new state, a restart), within O(dt |grad v|) on the steps after."""
@@ -9,10 +9,10 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
+from taichi_bearing.case.material import Material
 from taichi_bearing.mesh.primitives import rectangle_mesh
 from taichi_bearing.solver.backend import init_taichi
 from taichi_bearing.solver.damping import StiffnessDamping
-from taichi_bearing.solver.materials import Material
 from taichi_bearing.solver.model import Model
 
 STEEL = Material(210e9, 0.3, 7850.0)

@@ -5,11 +5,11 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
+from taichi_bearing.case.material import Material
 from taichi_bearing.mesh.primitives import annulus_mesh, disk_mesh, rectangle_mesh
 from taichi_bearing.solver.backend import init_taichi
 from taichi_bearing.solver.damping import StiffnessDamping
 from taichi_bearing.solver.loads import HeldDirection, RigidVelocity, line_load
-from taichi_bearing.solver.materials import Material
 from taichi_bearing.solver.model import Model
 
 STEEL = Material(210e9, 0.3, 7850.0)

@@ -5,10 +5,10 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
+from taichi_bearing.case.material import Material
 from taichi_bearing.mesh.primitives import disk_mesh, rectangle_mesh
 from taichi_bearing.solver.backend import init_taichi
 from taichi_bearing.solver.loads import RigidVelocity
-from taichi_bearing.solver.materials import Material
 from taichi_bearing.solver.model import Model
 
 STEEL = Material(210e9, 0.3, 7850.0)

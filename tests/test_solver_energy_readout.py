@@ -8,10 +8,10 @@ import math
 import numpy as np
 import pytest
 
+from taichi_bearing.case.material import Material
 from taichi_bearing.mesh.primitives import annulus_mesh
 from taichi_bearing.solver.backend import init_taichi
 from taichi_bearing.solver.damping import StiffnessDamping
-from taichi_bearing.solver.materials import Material
 from taichi_bearing.solver.model import MEASURE_BLOCK, Model
 
 STEEL = Material(210e9, 0.3, 7850.0)

@@ -6,13 +6,14 @@ import numpy as np
 import pytest
 import taichi as ti
 
+from taichi_bearing.case.material import Material
 from taichi_bearing.errors import SimulationError
 from taichi_bearing.mesh.primitives import annulus_mesh, disk_mesh, rectangle_mesh
 from taichi_bearing.output.histories import read_histories
+from taichi_bearing.simulation.engine import RunConfig, run_transient
 from taichi_bearing.solver.backend import init_taichi
 from taichi_bearing.solver.contributor import ForceContributor, add_force
 from taichi_bearing.solver.damping import StiffnessDamping
-from taichi_bearing.solver.engine import RunConfig, run_transient
 from taichi_bearing.solver.loads import (
     FixedNodes,
     NodalForces,
@@ -22,7 +23,6 @@ from taichi_bearing.solver.loads import (
     rotation_angle,
     uniform_load,
 )
-from taichi_bearing.solver.materials import Material
 from taichi_bearing.solver.model import Model
 
 STEEL = Material(210e9, 0.3, 7850.0)

@@ -8,11 +8,11 @@ import dataclasses
 import numpy as np
 import pytest
 
+from taichi_bearing.case.material import Material
 from taichi_bearing.mesh.primitives import rectangle_mesh
+from taichi_bearing.simulation.engine import steps_per_sample
 from taichi_bearing.solver.backend import current_threads, init_taichi
 from taichi_bearing.solver.damping import StiffnessDamping
-from taichi_bearing.solver.engine import steps_per_sample
-from taichi_bearing.solver.materials import Material
 from taichi_bearing.solver.model import Model
 from taichi_bearing.solver.multirate import step_classes
 

@@ -6,12 +6,12 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
+from taichi_bearing.case.material import Material
 from taichi_bearing.mesh.primitives import annulus_mesh, rectangle_mesh
+from taichi_bearing.simulation.engine import RunConfig, run_transient
 from taichi_bearing.solver.backend import init_taichi
-from taichi_bearing.solver.engine import RunConfig, run_transient
 from taichi_bearing.solver.linear_reference import assemble_stiffness, linear_static
 from taichi_bearing.solver.loads import FixedNodes, HeldDirection, line_load
-from taichi_bearing.solver.materials import Material
 from taichi_bearing.solver.model import Model
 from taichi_bearing.solver.relaxation import relax
 

@@ -11,13 +11,13 @@ import taichi as ti
 from test_contact_cage import OMEGA, orbiting_roller
 from test_contact_disk import thrown_disk
 
+from taichi_bearing.case.material import Material
 from taichi_bearing.mesh.primitives import rectangle_mesh
 from taichi_bearing.solver import stepping
 from taichi_bearing.solver.backend import GPU_MEMBERS, current_threads, init_taichi
 from taichi_bearing.solver.contact import ContactParameters
 from taichi_bearing.solver.damping import StiffnessDamping
 from taichi_bearing.solver.loads import FixedNodes, NodalForces, RigidPlate, uniform_load
-from taichi_bearing.solver.materials import Material
 from taichi_bearing.solver.model import Model
 from taichi_bearing.solver.team import share
 

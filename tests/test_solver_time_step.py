@@ -8,11 +8,11 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
+from taichi_bearing.case.material import Material
 from taichi_bearing.mesh.primitives import rectangle_mesh
 from taichi_bearing.solver.backend import init_taichi
-from taichi_bearing.solver.contact_setup import penalty_bounds, window_share
 from taichi_bearing.solver.damping import StiffnessDamping
-from taichi_bearing.solver.materials import Material
+from taichi_bearing.solver.laws.contact import penalty_bounds, window_share
 from taichi_bearing.solver.model import Model
 
 STEEL = Material(210e9, 0.3, 7850.0)

@@ -11,15 +11,19 @@ import math
 import numpy as np
 import pytest
 
+from taichi_bearing.analytic.quasistatic import (
+    contact_model,
+    solve_load_distribution,
+    spall_from_case,
+)
+from taichi_bearing.analytic.spall_contact import _profile_supports, spall_supports
 from taichi_bearing.case import CaseError, load_case
+from taichi_bearing.geometry.roller_path import centre_drop
+from taichi_bearing.geometry.spall_profile import SpallProfile
 from taichi_bearing.mesh.bearing_mesh import build_bearing_mesh
 from taichi_bearing.mesh.grid import boundary_segments, chain_segments, signed_areas
 from taichi_bearing.mesh.quality import jacobian_determinants, mesh_statistics
 from taichi_bearing.mesh.spec import spec_from_case
-from taichi_bearing.quasistatic import contact_model, solve_load_distribution, spall_from_case
-from taichi_bearing.roller_path import centre_drop
-from taichi_bearing.spall_contact import _profile_supports, spall_supports
-from taichi_bearing.spall_profile import SpallProfile
 
 R, r = 0.112, 0.012  # outer raceway and roller radius of the default bearing, m
 

@@ -18,17 +18,14 @@ from synthetic_run import make_synthetic_run
 
 from bearing_io.files import write_json
 from taichi_bearing.__main__ import main as cli
+from taichi_bearing.checks.passages import PASSAGE_QUANTITIES
+from taichi_bearing.checks.quantities import QUANTITIES
 from taichi_bearing.commands.convergence import level_axis
 from taichi_bearing.commands.passages import angle_axis
-from taichi_bearing.passage_study import (
-    QUANTITIES,
-    run_values,
-    spread_angles,
-    zone_edge_share,
-)
-from taichi_bearing.passages import PASSAGE_QUANTITIES
-from taichi_bearing.post.report import Table, fmt, report_blocks
-from taichi_bearing.sweep import make_cells
+from taichi_bearing.post.document import Table, fmt
+from taichi_bearing.post.report import report_blocks
+from taichi_bearing.studies.passage_study import run_values, spread_angles, zone_edge_share
+from taichi_bearing.studies.sweep import make_cells
 
 ROOT = Path(__file__).resolve().parents[1]
 CASE = str(ROOT / "cases" / "single_passage.yaml")

@@ -22,9 +22,10 @@ from diagnostics.envelope import envelope_spectrum
 from taichi_bearing.__main__ import main as cli
 from taichi_bearing.case import case_to_dict, load_case
 from taichi_bearing.errors import CaseError, InputError
-from taichi_bearing.post.report import fmt
-from taichi_bearing.post.sweep_figures import write_sweep_outputs
-from taichi_bearing.sweep import (
+from taichi_bearing.post.document import fmt
+from taichi_bearing.studies.metrics import METRICS as CELL_METRICS
+from taichi_bearing.studies.metrics import envelope_level_at, summary_rows
+from taichi_bearing.studies.sweep import (
     LOAD_KEY,
     SPEED_KEY,
     Axis,
@@ -36,8 +37,7 @@ from taichi_bearing.sweep import (
     parse_vary,
     run_sweep,
 )
-from taichi_bearing.sweep_metrics import METRICS as CELL_METRICS
-from taichi_bearing.sweep_metrics import envelope_level_at, summary_rows
+from taichi_bearing.studies.sweep_figures import write_sweep_outputs
 
 ROOT = Path(__file__).resolve().parents[1]
 CASE = ROOT / "cases" / "validation" / "coarse_spall.yaml"

@@ -210,7 +210,7 @@ def _check_defect(case: Case, src: str | None) -> None:
 
 def _check_profile(case: Case, raceway: float, src: str | None) -> None:
     """Sloped walls must leave a floor, and an edge radius must fit its walls."""
-    from taichi_bearing.spall_profile import SpallProfile
+    from taichi_bearing.geometry.spall_profile import SpallProfile
 
     d = case.defect
     outer = d.race == "outer"

@@ -25,8 +25,8 @@ from taichi_bearing.errors import InputError
 if TYPE_CHECKING:  # numpy, pandas and the model load when the command runs, not for --help
     import pandas as pd
 
+    from taichi_bearing.analytic.quasistatic import LoadDistribution, Spall
     from taichi_bearing.case import Case
-    from taichi_bearing.quasistatic import LoadDistribution, Spall
 
 FORCE_COLUMNS = (
     "cage_angle_deg",
@@ -91,7 +91,7 @@ def _check_angles(n_angles: int) -> None:
 
 def _spall(case: Case) -> Spall | None:
     """The case's spall; a defect the model does not cover is refused (InputError)."""
-    from taichi_bearing.quasistatic import spall_from_case
+    from taichi_bearing.analytic.quasistatic import spall_from_case
 
     try:
         return spall_from_case(case)
@@ -126,8 +126,8 @@ def _edge_sweeps(
     an inner-race spall, roller 0 passing it with the spall at ``at``, and its travel."""
     import numpy as np
 
-    from taichi_bearing.inner_race import passage_angles
-    from taichi_bearing.quasistatic import solve_case
+    from taichi_bearing.analytic.inner_race import passage_angles
+    from taichi_bearing.analytic.quasistatic import solve_case
 
     out, travels = [], []
     if spall.race == "inner":
@@ -158,17 +158,17 @@ def run_analytic(
     import pandas as pd
 
     from bearing_io.files import write_json
-    from taichi_bearing.bearing import fault_frequencies
-    from taichi_bearing.post.analytic_figures import (
-        plot_defect_passage,
-        plot_edge_zoom,
-        plot_load_distribution,
-    )
-    from taichi_bearing.quasistatic import (
+    from taichi_bearing.analytic.bearing import fault_frequencies
+    from taichi_bearing.analytic.quasistatic import (
         defect_sweep,
         solve_case,
         static_contact_table,
         stribeck_ratio,
+    )
+    from taichi_bearing.post.analytic_figures import (
+        plot_defect_passage,
+        plot_edge_zoom,
+        plot_load_distribution,
     )
 
     _check_angles(n_angles)
@@ -263,7 +263,7 @@ def _passages_frame(case: Case, first, angles_at: list, n_angles: int) -> pd.Dat
     import numpy as np
     import pandas as pd
 
-    from taichi_bearing.quasistatic import defect_sweep
+    from taichi_bearing.analytic.quasistatic import defect_sweep
 
     if angles_at[0] is None:
         return forces_frame(first)
@@ -281,9 +281,9 @@ def _inner_summary(case: Case, spall: Spall, angles_at: list, n_angles: int, fig
     through (figure ``inner_load_zone.png``)."""
     import numpy as np
 
-    from taichi_bearing.inner_race import load_zone, sideband_ratio
+    from taichi_bearing.analytic.inner_race import sideband_ratio
+    from taichi_bearing.analytic.quasistatic import defect_sweep, load_zone
     from taichi_bearing.post.analytic_figures import plot_inner_load_zone
-    from taichi_bearing.quasistatic import defect_sweep
 
     angles, load = load_zone(case)
     rows, curves = [], []

@@ -1,7 +1,7 @@
 """`python -m taichi_bearing compare RUN_DIR MEASURED_FILE... [--fs HZ] [--rpm RPM]
 [--bearing n=..,d=..,D=..] [--out DIR]`: a simulated run against measured records.
 
-The run folder is read here (:func:`taichi_bearing.run_folder.load_run`: the analysed
+The run folder is read here (:func:`taichi_bearing.output.run_folder.load_run`: the analysed
 sensor acceleration, its sampling rate, shaft speed, BPFO and re-stressing times; a run
 that did not finish gives what it recorded); the measured records are read and everything
 is analysed and drawn by :func:`diagnostics.compare.compare_records`, which takes arrays
@@ -61,7 +61,7 @@ def _positive(value: float | None, option: str, what: str) -> None:
 def _run_case(run_dir: Path):
     """The run's ``case.yaml`` as a Case; None when it cannot be read."""
     from taichi_bearing.case import load_case
-    from taichi_bearing.run_folder import CASE_FILE
+    from taichi_bearing.output.layout import CASE_FILE
 
     try:
         return load_case(run_dir / CASE_FILE)
@@ -79,8 +79,8 @@ def simulated_record(run_dir: Path, sensor: str | None = None):
     import numpy as np
 
     from diagnostics.compare import Record
-    from taichi_bearing.bearing import fault_frequencies
-    from taichi_bearing.run_folder import acceleration_signal, load_run
+    from taichi_bearing.analytic.bearing import fault_frequencies
+    from taichi_bearing.output.run_folder import acceleration_signal, load_run
 
     run = load_run(run_dir)
     case = _run_case(run_dir)
@@ -113,7 +113,7 @@ def simulated_record(run_dir: Path, sensor: str | None = None):
 def main(args: argparse.Namespace) -> int:
     from diagnostics.cli import UsageError, parse_bearing
     from diagnostics.compare import compare_records, measured_record, summary_lines
-    from taichi_bearing.run_folder import COMPARE_DIR
+    from taichi_bearing.output.layout import COMPARE_DIR
 
     _positive(args.fs, "--fs", "frequency in Hz")
     _positive(args.rpm, "--rpm", "speed")

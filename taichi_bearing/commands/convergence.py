@@ -6,10 +6,10 @@ keys joined by ``+`` take each level together, e.g. the locally refined mesh's
 ``mesh.spall_size_mm+mesh.roller_surface_size_mm=0.5,0.25,0.125``),
 each level N times from starting angles spread over ``--spread-deg`` (N passages of a
 single-passage case, as ``passages`` does), on the sweep's pool or Dask cluster. For every
-quantity of :data:`taichi_bearing.passage_study.QUANTITIES` it reports the value per level
+quantity of :data:`taichi_bearing.studies.passage_study.QUANTITIES` it reports the value per level
 (dynamic ones as the median and interquartile range over the level's passages), the
 relative change between successive levels, the observed order and Richardson's estimate
-where the order is meaningful (:mod:`taichi_bearing.convergence`), with figures and
+where the order is meaningful (:mod:`taichi_bearing.studies.convergence`), with figures and
 ``convergence_report.md`` / ``.html`` led by the verdict. Exit status: 0 every run
 finished, 1 some failed (each reported), 2 bad input.
 """
@@ -63,8 +63,8 @@ def level_axis(text: str):
     InputError
         Naming the ``--vary`` argument.
     """
-    from taichi_bearing.convergence import spacings
-    from taichi_bearing.sweep import numeric_axis, parse_vary
+    from taichi_bearing.studies.convergence import spacings
+    from taichi_bearing.studies.sweep import numeric_axis, parse_vary
 
     axis = parse_vary(text)
     levels = numeric_axis(axis, minimum=3)
@@ -88,10 +88,10 @@ def main(args: argparse.Namespace) -> int:
     out = study_folder(args, "convergence")
     _, results = run_study(args, axes, out)
 
-    from taichi_bearing.passage_study import collect
-    from taichi_bearing.post.convergence_report import write_convergence_outputs
-    from taichi_bearing.post.study_report import how_made_blocks
-    from taichi_bearing.sweep import column_labels
+    from taichi_bearing.studies.convergence_report import write_convergence_outputs
+    from taichi_bearing.studies.passage_study import collect
+    from taichi_bearing.studies.report import how_made_blocks
+    from taichi_bearing.studies.sweep import column_labels
 
     labels = column_labels(a.key for a in axes)
     passages, runs = collect(results, labels)

@@ -56,8 +56,8 @@ def angle_axis(args: argparse.Namespace, runs: int, option: str):
         ``runs < 1`` (naming ``option``) or a negative or non-finite ``--spread-deg``.
     """
     from taichi_bearing.case import load_case
-    from taichi_bearing.passage_study import ANGLE_KEY, spread_angles
-    from taichi_bearing.sweep import Axis
+    from taichi_bearing.studies.passage_study import ANGLE_KEY, spread_angles
+    from taichi_bearing.studies.sweep import Axis
 
     if runs < 1:
         raise InputError(f"{option}: must be >= 1, got {runs}")
@@ -73,10 +73,10 @@ def main(args: argparse.Namespace) -> int:
     out = study_folder(args, "passages")
     _, results = run_study(args, [axis], out)
 
-    from taichi_bearing.passage_study import collect
-    from taichi_bearing.post.passages_report import write_passages_outputs
-    from taichi_bearing.post.study_report import how_made_blocks
-    from taichi_bearing.sweep import column_labels
+    from taichi_bearing.studies.passage_study import collect
+    from taichi_bearing.studies.passages_report import write_passages_outputs
+    from taichi_bearing.studies.report import how_made_blocks
+    from taichi_bearing.studies.sweep import column_labels
 
     angle = column_labels([axis.key])[axis.key]
     passages, runs = collect(results, column_labels([axis.key]))

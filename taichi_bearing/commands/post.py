@@ -29,8 +29,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 
 def main(args: argparse.Namespace) -> int:
-    from taichi_bearing.post.recheck import recheck_run
-    from taichi_bearing.run_folder import CASE_FILE, SUMMARY_FILE
+    from taichi_bearing.output.layout import CASE_FILE, SUMMARY_FILE
+    from taichi_bearing.pipeline import recheck_run
 
     run_dir = check_empty(args.run_dir, "RUN_DIR")
     if any((run_dir / name).is_file() for name in (CASE_FILE, SUMMARY_FILE)):

@@ -56,7 +56,7 @@ def main(args: argparse.Namespace) -> int:
         raise InputError(f"--progress-interval: must be > 0 s, got {args.progress_interval:g}")
     case = load_case_for_cli(args.case, args.overrides)
     out = case_output_folder(args.out, case)
-    from taichi_bearing.simulate import run_case  # Taichi: only once the input is good
+    from taichi_bearing.pipeline import run_case  # Taichi: only once the input is good
 
     summary = run_case(
         case,

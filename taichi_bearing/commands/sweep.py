@@ -1,6 +1,6 @@
 """`python -m taichi_bearing sweep CASE.yaml --vary KEY=v1,v2,... [--vary KEY2=...]`.
 
-Runs a grid of cases over any case keys (:mod:`taichi_bearing.study_cells`;
+Runs a grid of cases over any case keys (:mod:`taichi_bearing.studies.cells`;
 ``--load-kN 25,50,80 --speed-rpm 300,500,800`` are the shorthands of
 ``--vary operating.load_kN=...`` and ``--vary operating.speed_rpm=...``) on a local
 process pool or, with ``--scheduler ADDRESS``, on a Dask distributed cluster; then writes
@@ -92,7 +92,7 @@ def run_study(args: argparse.Namespace, axes: list, out: Path, *, scale_duration
 
     Nothing is written before every cell's case is known to be valid.
     """
-    from taichi_bearing.sweep import make_cells, run_sweep
+    from taichi_bearing.studies.sweep import make_cells, run_sweep
 
     check_pool_arguments(args)
     cells = make_cells(args.case, axes, out, args.overrides, scale_duration=scale_duration,
@@ -123,7 +123,7 @@ def report_failures(results) -> list:
 
 
 def _axes(args: argparse.Namespace) -> list:
-    from taichi_bearing.sweep import LOAD_KEY, SPEED_KEY, Axis, parse_values, parse_vary
+    from taichi_bearing.studies.sweep import LOAD_KEY, SPEED_KEY, Axis, parse_values, parse_vary
 
     axes = []
     if args.loads is not None:
@@ -139,14 +139,14 @@ def _axes(args: argparse.Namespace) -> list:
 
 
 def main(args: argparse.Namespace) -> int:
-    from taichi_bearing.sweep import column_labels
+    from taichi_bearing.studies.sweep import column_labels
 
     axes = _axes(args)
     out = study_folder(args, "sweep")
     _, results = run_study(args, axes, out, scale_duration=not args.fixed_duration)
-    from taichi_bearing.post.study_report import how_made_blocks
-    from taichi_bearing.post.sweep_figures import write_sweep_outputs
-    from taichi_bearing.sweep_metrics import summary_rows
+    from taichi_bearing.studies.metrics import summary_rows
+    from taichi_bearing.studies.report import how_made_blocks
+    from taichi_bearing.studies.sweep_figures import write_sweep_outputs
 
     labels = list(column_labels(a.key for a in axes).values())
     options = [*(["--load-kN", args.loads] if args.loads is not None else []),

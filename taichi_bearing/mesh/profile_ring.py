@@ -2,7 +2,7 @@
 
 The rectangular notch (:mod:`taichi_bearing.mesh.rings`) is cut out of thin layers and
 its walls are columns of nodes. A sloped wall is not a column: here the raceway level
-itself follows the profile (:class:`~taichi_bearing.spall_profile.SpallProfile`),
+itself follows the profile (:class:`~taichi_bearing.geometry.spall_profile.SpallProfile`),
 node by node along its arc length, and the levels below it close up onto the ring's
 ordinary level ``m`` (the first one at least half a surface element below the floor).
 
@@ -24,11 +24,11 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from taichi_bearing.geometry.spall_profile import SpallProfile, unit
 from taichi_bearing.mesh.grid import merge_nodes
 from taichi_bearing.mesh.layers import graded_layers
 from taichi_bearing.mesh.rings import TWO_PI, RingMesh, _arc_cells, plan_rows, raceway_positions
 from taichi_bearing.mesh.strip import between_levels, build_strip
-from taichi_bearing.spall_profile import SpallProfile, unit
 
 __all__ = ["ProfileMap", "profile_map", "profile_ring_mesh"]
 

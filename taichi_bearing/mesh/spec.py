@@ -13,7 +13,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from taichi_bearing.case import Bearing
-from taichi_bearing.spall_profile import SpallProfile
+from taichi_bearing.geometry.spall_profile import SpallProfile
 
 
 def polar_from_top(angle_from_top: float) -> float:

@@ -30,6 +30,7 @@ import math
 
 import numpy as np
 
+from taichi_bearing.geometry.spall_profile import SpallProfile, unit
 from taichi_bearing.mesh.grid import boundary_segments, merge_nodes, orient_ccw
 from taichi_bearing.mesh.layers import coarsening_rows, graded_layers, notch_depths
 from taichi_bearing.mesh.profile_ring import profile_map, profile_ring_mesh
@@ -42,7 +43,6 @@ from taichi_bearing.mesh.rings import (
     ring_mesh,
 )
 from taichi_bearing.mesh.strip import between_levels, build_strip, coarse_count, plan_arc
-from taichi_bearing.spall_profile import SpallProfile, unit
 
 __all__ = ["MIN_RATIO", "refined_ring_mesh"]
 

@@ -3,9 +3,8 @@ small-strain stiffness, the supports the run uses, and linearised roller contact
 
 Everything here is numpy/scipy. The element routines are those of
 :mod:`taichi_bearing.solver.element` (the tangent of the explicit element at the
-reference state: uniform-strain part plus the Flanagan-Belytschko hourglass stiffness) and
-the per-element materials of :mod:`taichi_bearing.solver.materials`; they are loaded
-without the ``solver`` package's ``__init__``, which imports Taichi.
+reference state: uniform-strain part plus the Flanagan-Belytschko hourglass stiffness, and
+the per-element materials), numpy only: importing them does not start Taichi.
 
 The eigenproblem ``K u = omega^2 M u`` is solved in the mass-normalised form
 ``S y = omega^2 y`` with ``S = B^T K B``, where ``B`` maps the kept coordinates ``y`` to
@@ -15,12 +14,8 @@ rigid plate share one coordinate, whose mass is the plate's.
 
 from __future__ import annotations
 
-import importlib.util
 import math
-import sys
 from dataclasses import dataclass, field
-from pathlib import Path
-from types import ModuleType
 
 import numpy as np
 import scipy.sparse as sp
@@ -28,6 +23,7 @@ import scipy.sparse as sp
 from taichi_bearing.case import Case, Material
 from taichi_bearing.mesh.supports import support_plate_nodes
 from taichi_bearing.mesh.types import Mesh
+from taichi_bearing.solver import element
 
 __all__ = [
     "PARTS",
@@ -35,31 +31,10 @@ __all__ = [
     "ModalModel",
     "bearing_modal_model",
     "modal_model",
-    "solver_module",
 ]
 
 PARTS = ("outer_ring", "inner_ring", "bearing")
 SUPPORTS = ("free", "case")
-
-
-def solver_module(name: str) -> ModuleType:
-    """``taichi_bearing.solver.<name>`` for a numpy-only module of the solver, without
-    running ``taichi_bearing/solver/__init__.py`` (it imports Taichi, which the modal
-    analysis and the reports must not start).
-
-    The module already imported is used when there is one (a run has Taichi anyway).
-    """
-    full = f"taichi_bearing.solver.{name}"
-    if full in sys.modules:
-        return sys.modules[full]
-    alias = f"taichi_bearing.modes._solver_{name}"
-    if alias not in sys.modules:
-        path = Path(__file__).resolve().parents[1] / "solver" / f"{name}.py"
-        spec = importlib.util.spec_from_file_location(alias, path)
-        module = importlib.util.module_from_spec(spec)
-        sys.modules[alias] = module
-        spec.loader.exec_module(module)
-    return sys.modules[alias]
 
 
 @dataclass
@@ -132,12 +107,10 @@ def sub_mesh(mesh: Mesh, parts: list[str]) -> tuple[Mesh, np.ndarray]:
 
 def _stiffness_and_mass(mesh: Mesh, material: Material, thickness: float):
     """``M^-1/2 K M^-1/2`` (sparse) and the lumped masses, as the explicit model has them."""
-    element = solver_module("element")
-    materials = solver_module("materials")
     nodes = np.asarray(mesh.nodes, dtype=float)
     elements = np.asarray(mesh.elements, dtype=np.int64)
     geo = element.element_geometry(nodes, elements)
-    lam, mu, rho, eprime = materials.materials_per_element(mesh, material)
+    lam, mu, rho, eprime = element.materials_per_element(mesh, material)
     khg = element.hourglass_stiffness(geo, eprime, thickness)
     k_el = element.element_stiffness(geo, lam, mu, khg, thickness)
     mass = np.zeros(mesh.n_nodes)
@@ -264,7 +237,7 @@ def contact_springs(case: Case, mesh: Mesh) -> tuple[list[tuple[np.ndarray, floa
     (Harris's rigid-ring load distribution with the case's spall, rollers where the run
     starts them). Each end is spread over the surface nodes within two surface elements
     of the contact point. Returns the springs and the number of loaded rollers."""
-    from taichi_bearing.quasistatic import contact_model, solve_case
+    from taichi_bearing.analytic.quasistatic import contact_model, solve_case
 
     cm = contact_model(case.bearing, case.material)
     dist = solve_case(case, case.run.first_roller_angle)

@@ -12,7 +12,7 @@ What is on disk at any moment reads back as: the merged file, followed by the pa
 later than its last time. :func:`read_histories` applies exactly that rule, so it reads a
 finished run, a crashed one and a crashed resumed one alike.
 
-File and column names are those of :mod:`taichi_bearing.run_folder` (re-exported here for
+File and column names are those of :mod:`taichi_bearing.output.run_folder` (re-exported here for
 the writers): ``time_s``; ``<sensor>_ux|uy|vx|vy|ax|ay``; ``roller<j>_<race>_fx|fy|fn|ft``;
 ``energy_<kind>``.
 """
@@ -31,7 +31,7 @@ import pyarrow as pa
 import pyarrow.parquet as pq
 
 from bearing_io.files import atomic_path
-from taichi_bearing.run_folder import (
+from taichi_bearing.output.layout import (
     ENERGY_KINDS,
     HISTORIES_FILE,
     RACES,

@@ -13,7 +13,7 @@ __all__ = ["Recorder"]
 class Recorder:
     """Base class of the extra history columns (e.g. roller contact forces, cage angle).
 
-    :meth:`sample` is called by :func:`taichi_bearing.solver.engine.run_transient` once
+    :meth:`sample` is called by :func:`taichi_bearing.simulation.engine.run_transient` once
     per output sample, after the steps of the interval, and returns one value per name
     in ``columns`` (means over the interval where that makes sense: see each recorder).
     A recorder that keeps state between samples saves it in checkpoints through

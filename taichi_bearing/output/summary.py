@@ -1,6 +1,7 @@
-"""``summary.json`` of a run: the numbers design.md section 7 requires, in SI units.
+"""``summary.json`` of a run: its numbers in SI units, with the keys every finished run
+must have.
 
-The file name and the required keys are those of :mod:`taichi_bearing.run_folder`.
+The file name and the required keys are those of :mod:`taichi_bearing.output.layout`.
 """
 
 from __future__ import annotations
@@ -11,13 +12,19 @@ from collections.abc import Mapping
 from pathlib import Path
 
 from bearing_io.files import write_json
-from taichi_bearing.run_folder import REQUIRED_SUMMARY_KEYS, SUMMARY_FILE
+from taichi_bearing.output.layout import REQUIRED_SUMMARY_KEYS, SUMMARY_FILE
 
-__all__ = ["missing_summary_keys", "required_summary_keys", "write_summary"]
+__all__ = [
+    "missing_summary_keys",
+    "required_summary_keys",
+    "write_partial_summary",
+    "write_summary",
+]
 
 
 def required_summary_keys() -> tuple[str, ...]:
-    """The keys every ``summary.json`` must have (design.md section 7)."""
+    """The keys every finished run's ``summary.json`` has
+    (:data:`~taichi_bearing.output.layout.REQUIRED_SUMMARY_KEYS`)."""
     return REQUIRED_SUMMARY_KEYS
 
 
@@ -64,3 +71,11 @@ def write_summary(path: str | os.PathLike, summary: Mapping, strict: bool = Fals
     else:
         data.pop("missing_keys", None)
     return write_json(path, data)
+
+
+def write_partial_summary(path: str | os.PathLike, summary: Mapping) -> Path:
+    """:func:`write_summary` for a run that did not finish: its missing keys are listed in
+    the file, with no warning."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")  # the missing keys are listed in the file
+        return write_summary(path, summary)

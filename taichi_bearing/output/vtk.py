@@ -19,12 +19,12 @@ import numpy as np
 
 from bearing_io.files import atomic_path
 from taichi_bearing.mesh.types import Mesh
-from taichi_bearing.run_folder import FRAMES_DIR, PVD_FILE
+from taichi_bearing.output.layout import FRAMES_DIR, PVD_FILE
 
 __all__ = ["FrameWriter", "mesh_to_meshio", "read_pvd", "write_vtu"]
 
 _FRAME = re.compile(r"^frame_(\d+)\.vtu$")
-PVD_NAME = PVD_FILE  # the run folder's name (taichi_bearing.run_folder)
+PVD_NAME = PVD_FILE  # the run folder's name (taichi_bearing.output.run_folder)
 
 
 def _as_vector3(name: str, a: np.ndarray) -> np.ndarray:

@@ -11,7 +11,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
 from bearing_io.files import atomic_path  # noqa: E402
-from taichi_bearing.quasistatic import LoadDistribution, Spall  # noqa: E402
+from taichi_bearing.analytic.quasistatic import LoadDistribution, Spall  # noqa: E402
 
 __all__ = [
     "plot_defect_passage",

@@ -25,6 +25,7 @@ from pathlib import Path
 
 import numpy as np
 
+from taichi_bearing.output.layout import ANIMATION_FILES
 from taichi_bearing.post.animation_view import (
     Frame,
     FrameInView,
@@ -42,7 +43,6 @@ from taichi_bearing.post.animation_view import (
     select_frames,
     spall_view,
 )
-from taichi_bearing.run_folder import ANIMATION_FILES
 
 __all__ = [
     "ANIMATION_FILES",
@@ -293,7 +293,7 @@ def animate_run(
     Parameters
     ----------
     run_dir : str or path-like
-        A run folder with frames (:data:`taichi_bearing.run_folder.FRAMES_DIR`).
+        A run folder with frames (:data:`taichi_bearing.output.run_folder.FRAMES_DIR`).
     out : str or path-like
         Output file (written atomically).
     fmt : {'gif', 'mp4'}
@@ -326,14 +326,9 @@ def animate_run(
     """
     from bearing_io.files import atomic_path
     from taichi_bearing.case import parse_case
+    from taichi_bearing.output.layout import FRAMES_DIR, MESH_STATISTICS_FILE, PVD_FILE
+    from taichi_bearing.output.run_folder import load_run, read_json
     from taichi_bearing.output.vtk import read_pvd
-    from taichi_bearing.run_folder import (
-        FRAMES_DIR,
-        MESH_STATISTICS_FILE,
-        PVD_FILE,
-        load_run,
-        read_json,
-    )
 
     run = load_run(run_dir)
     pvd = run.run_dir / FRAMES_DIR / PVD_FILE

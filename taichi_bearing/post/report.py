@@ -1,6 +1,6 @@
 """``write_report(run_dir)``: ``report.md`` and ``report.html`` of a run folder.
 
-Every number comes from the run folder (:mod:`taichi_bearing.run_folder`): ``summary.json``,
+Every number comes from the run folder (:mod:`taichi_bearing.output.run_folder`): ``summary.json``,
 ``case.yaml``, ``mesh_statistics.json`` and ``figures/figures.json`` (written with the figures by
 :func:`taichi_bearing.post.run_figures.make_run_figures`, which is run first if the figures
 are missing). The report is built once as a list of blocks (headings, paragraphs, tables,
@@ -17,28 +17,36 @@ the mesh, the run's times and the case close it as an appendix (:data:`APPENDIX`
 
 from __future__ import annotations
 
-import base64
-import html
 import math
 import os
 import re
-from dataclasses import dataclass
 from pathlib import Path
 
-from bearing_io.files import atomic_path
-from taichi_bearing.run_folder import (
+from taichi_bearing.output.layout import (
     FIGURES_DIR,
     FIGURES_INDEX_FILE,
     MESH_STATISTICS_FILE,
-    REPORT_HTML_FILE,
     REPORT_MD_FILE,
     SUMMARY_FILE,
-    passage_events,
-    read_case_dict,
-    read_json,
+)
+from taichi_bearing.output.run_folder import passage_events, read_case_dict, read_json
+from taichi_bearing.post.document import (
+    Heading,
+    Para,
+    Table,
+    figure_block,
+    fmt,
+    pct,
+    write_documents,
+)
+from taichi_bearing.post.spall_report import (
+    distribution_blocks,
+    interval_blocks,
+    spall_blocks,
+    verdict_blocks,
 )
 
-__all__ = ["APPENDIX", "SECTIONS", "fmt", "report_blocks", "write_report"]
+__all__ = ["APPENDIX", "SECTIONS", "report_blocks", "write_report"]
 
 # the report's sections (level 2), in order, then the appendix's (level 3)
 SECTIONS = (
@@ -56,51 +64,6 @@ SECTIONS = (
 APPENDIX_TITLE = "Appendix: mesh, run and case"
 APPENDIX = ("Mesh", "Stages and times", "Case")
 KEY_FIGURES = ("contact_forces", "acceleration")
-
-
-def fmt(value, digits: int = 4) -> str:
-    """A number as the report prints it: ``digits`` significant figures; '-' for none."""
-    if value is None:
-        return "-"
-    if isinstance(value, bool):
-        return "yes" if value else "no"
-    if isinstance(value, int):
-        return str(value)
-    if isinstance(value, float):
-        if not math.isfinite(value):
-            return "-"
-        return f"{value:.{digits}g}"
-    return str(value)
-
-
-def _pct(a, b) -> str:
-    """Relative difference (a - b) / b in percent."""
-    if a is None or b is None or not b:
-        return "-"
-    return f"{100.0 * (float(a) - float(b)) / float(b):+.2f} %"
-
-
-@dataclass
-class Heading:
-    text: str
-    level: int = 2
-
-
-@dataclass
-class Para:
-    text: str
-
-
-@dataclass
-class Table:
-    header: list[str]
-    rows: list[list[str]]
-
-
-@dataclass
-class Image:
-    path: Path
-    caption: str
 
 
 # --------------------------------------------------------------------------- sections
@@ -229,9 +192,9 @@ def _static(summary: dict) -> list:
                 str(j),
                 fmt(s),
                 fmt(a),
-                _pct(s, a) if loaded else "unloaded",
+                pct(s, a) if loaded else "unloaded",
                 fmt(r),
-                _pct(s, r) if loaded_ref else "unloaded",
+                pct(s, r) if loaded_ref else "unloaded",
             ]
         )
     js = max(range(len(sim)), key=lambda j: float(sim[j] or 0.0))
@@ -239,13 +202,13 @@ def _static(summary: dict) -> list:
     text = (
         f"End of preload against the analytical (rigid-ring, Harris) load distribution of "
         f"design section 4 and against the flexible-ring reference (the rings' own mesh and "
-        f"supports with a Palmgren spring per roller, taichi_bearing.static_reference). "
+        f"supports with a Palmgren spring per roller, taichi_bearing.simulation.static_reference). "
         f"Q_max: simulated {fmt(sim[js])} N (roller {js}), analytical {fmt(ana[ja])} N "
-        f"(roller {ja}), difference {_pct(sim[js], ana[ja])}"
+        f"(roller {ja}), difference {pct(sim[js], ana[ja])}"
     )
     if any(r is not None for r in ref):
         jr = max(range(len(ref)), key=lambda j: float(ref[j] or 0.0))
-        text += f"; flexible-ring reference {fmt(ref[jr])} N, difference {_pct(sim[js], ref[jr])}"
+        text += f"; flexible-ring reference {fmt(ref[jr])} N, difference {pct(sim[js], ref[jr])}"
     text += (
         ". An outer ring hung from the adapter is not rigid: the checks that apply to it are "
         "the flexible-ring ones (see Checks). Errors are shown for rollers carrying more "
@@ -275,16 +238,7 @@ def _checks(summary: dict) -> list:
     return [Table(["check", "value", "limit", "result", "note"], rows)]
 
 
-def _figure(figs: dict, run_dir: Path, name: str) -> list:
-    entry = figs.get(name)
-    if not entry:
-        return [Para(f"figure {name} was not drawn.")]
-    return [Image(run_dir / FIGURES_DIR / entry["file"], entry.get("caption", ""))]
-
-
 def _passages(summary: dict, figs: dict, run_dir: Path) -> list:
-    from taichi_bearing.post.spall_report import interval_blocks, spall_blocks
-
     ev = passage_events(summary)
     out: list = []
     if ev:
@@ -303,8 +257,6 @@ def _passages(summary: dict, figs: dict, run_dir: Path) -> list:
         head = ["roller", "entry (ms)", "first touch of the exit edge (ms)", "exit (ms)",
                 "entry to exit (ms)", "impulses at exit", "exit force peak / F0"]  # fmt: skip
         out.append(Table(head, rows))
-        from taichi_bearing.post.passages_report import distribution_blocks
-
         out += distribution_blocks(summary, len(ev))  # the finding is the distribution
         exits = [e["exit_time_s"] for e in ev if math.isfinite(e["exit_time_s"])]
         out += interval_blocks(summary, exits)
@@ -318,7 +270,7 @@ def _key_figures(figs: dict, run_dir: Path) -> list:
     marked, and a link to the animation when the folder holds one."""
     from taichi_bearing.post.animation import animation_note
 
-    out = [b for name in KEY_FIGURES for b in _figure(figs, run_dir, name)]
+    out = [b for name in KEY_FIGURES for b in figure_block(figs, run_dir, name)]
     return out + [Para(n) for n in [animation_note(run_dir)] if n]
 
 
@@ -344,7 +296,7 @@ def _noise(summary: dict, figs: dict, run_dir: Path) -> list:
             name,
             fmt(pred.get(name)),
             fmt(meas.get(name)),
-            _pct(meas.get(name), pred.get(name)),
+            pct(meas.get(name), pred.get(name)),
             fmt(prom.get(name), 3) if isinstance(prom, dict) else "-",
         ]
         for name in dict.fromkeys([*pred, *meas])
@@ -372,14 +324,14 @@ def _noise(summary: dict, figs: dict, run_dir: Path) -> list:
                 ],
             )
         )
-    return out + _figure(figs, run_dir, "psd_notch")
+    return out + figure_block(figs, run_dir, "psd_notch")
 
 
 def _spectral(figs: dict, run_dir: Path) -> list:
     out: list = []
     for name in ("envelope_spectrum", "kurtogram", "spectral_kurtosis", "spectrogram"):
-        out += _figure(figs, run_dir, name)
-    return out + _figure(figs, run_dir, "third_octave")
+        out += figure_block(figs, run_dir, name)
+    return out + figure_block(figs, run_dir, "third_octave")
 
 
 def _envelope_band(figs: dict) -> tuple[float, float] | None:
@@ -397,7 +349,7 @@ def _modes(run_dir: Path, figs: dict) -> list:
     from taichi_bearing.case import load_case
     from taichi_bearing.errors import InputError
     from taichi_bearing.modes.band import modes_near_band
-    from taichi_bearing.run_folder import CASE_FILE
+    from taichi_bearing.output.layout import CASE_FILE
 
     band = _envelope_band(figs)
     if band is None:
@@ -430,7 +382,7 @@ def _defect(summary: dict) -> list:
     rows = [
         ["estimated from the simulated signal (mm)", fmt(None if est is None else 1e3 * est)],
         ["true spall length (mm)", fmt(None if true is None else 1e3 * true)],
-        ["difference", _pct(est, true)],
+        ["difference", pct(est, true)],
     ]
     return [
         Para(
@@ -469,8 +421,6 @@ def report_blocks(run_dir: str | os.PathLike) -> list:
     """The report as a list of blocks (Heading, Para, Table, Image), in order: the
     verdict, the checks, the key figures, the analyses (:data:`SECTIONS`), then the
     appendix (:data:`APPENDIX`)."""
-    from taichi_bearing.post.spall_report import verdict_blocks
-
     run_dir = Path(run_dir)
     summary = read_json(run_dir / SUMMARY_FILE)
     case = read_case_dict(run_dir)
@@ -507,7 +457,7 @@ def report_blocks(run_dir: str | os.PathLike) -> list:
         "Defect size": _defect(summary),
         "Numerical noise and notch filters": _noise(summary, figs, run_dir),
         "Static load distribution": _static(summary),
-        "Deformed mesh at the spall": _figure(figs, run_dir, "deformed_spall"),
+        "Deformed mesh at the spall": figure_block(figs, run_dir, "deformed_spall"),
     }
     for title in SECTIONS:
         blocks.append(Heading(title, 2))
@@ -524,79 +474,6 @@ def report_blocks(run_dir: str | os.PathLike) -> list:
     return blocks
 
 
-# --------------------------------------------------------------------------- rendering
-
-
-def _md_cell(text: str) -> str:
-    return text.replace("|", "\\|").replace("\n", " ")
-
-
-def to_markdown(blocks: list, run_dir: Path) -> str:
-    lines: list[str] = []
-    for b in blocks:
-        if isinstance(b, Heading):
-            lines += ["#" * b.level + " " + b.text, ""]
-        elif isinstance(b, Para):
-            lines += [b.text, ""]
-        elif isinstance(b, Table):
-            lines.append("| " + " | ".join(_md_cell(h) for h in b.header) + " |")
-            lines.append("|" + "---|" * len(b.header))
-            lines += ["| " + " | ".join(_md_cell(c) for c in row) + " |" for row in b.rows]
-            lines.append("")
-        elif isinstance(b, Image):
-            rel = os.path.relpath(b.path, run_dir)
-            lines += [f"![{_md_cell(b.path.stem)}]({rel})", "", f"*{b.caption}*", ""]
-    return "\n".join(lines)
-
-
-_CSS = (
-    "body{font-family:sans-serif;max-width:1000px;margin:2em auto;color:#222}"
-    "table{border-collapse:collapse;margin:0.5em 0}td,th{border:1px solid #bbb;"
-    "padding:2px 8px;text-align:left}th{background:#eee}img{max-width:100%}"
-    "figcaption{font-style:italic;margin-bottom:1.5em}"
-)
-
-
-def _inline(text: str) -> str:
-    """Escaped text with Markdown's inline code and links as HTML (``[text](href)`` as
-    an ``<a>``)."""
-    out = re.sub(r"`([^`]*)`", r"<code>\1</code>", html.escape(text, quote=False))
-    return re.sub(
-        r"\[([^\]]+)\]\(([^)\s]+)\)",
-        lambda m: f'<a href="{m[2].replace(chr(34), "&quot;")}">{m[1]}</a>',
-        out,
-    )
-
-
-def to_html(blocks: list) -> str:
-    title = next((b.text for b in blocks if isinstance(b, Heading)), "Run report")
-    parts = [
-        "<!DOCTYPE html>",
-        '<html><head><meta charset="utf-8">',
-        f"<title>{html.escape(title)}</title><style>{_CSS}</style></head><body>",
-    ]
-    for b in blocks:
-        if isinstance(b, Heading):
-            parts.append(f"<h{b.level}>{html.escape(b.text)}</h{b.level}>")
-        elif isinstance(b, Para):
-            parts.append(f"<p>{_inline(b.text)}</p>")
-        elif isinstance(b, Table):
-            head = "".join(f"<th>{html.escape(h)}</th>" for h in b.header)
-            body = "".join(
-                "<tr>" + "".join(f"<td>{_inline(c)}</td>" for c in row) + "</tr>" for row in b.rows
-            )
-            parts.append(f"<table><tr>{head}</tr>{body}</table>")
-        elif isinstance(b, Image):
-            data = base64.b64encode(b.path.read_bytes()).decode("ascii")
-            parts.append(
-                f'<figure><img alt="{html.escape(b.path.stem)}" '
-                f'src="data:image/png;base64,{data}"><figcaption>'
-                f"{html.escape(b.caption)}</figcaption></figure>"
-            )
-    parts.append("</body></html>")
-    return "\n".join(parts)
-
-
 def write_report(run_dir: str | os.PathLike) -> Path:
     """Write ``report.md`` and ``report.html`` into a run folder; returns ``report.md``.
 
@@ -605,10 +482,5 @@ def write_report(run_dir: str | os.PathLike) -> Path:
     renamed.
     """
     run_dir = Path(run_dir)
-    blocks = report_blocks(run_dir)
-    md_path = run_dir / REPORT_MD_FILE
-    with atomic_path(md_path) as tmp:
-        tmp.write_text(to_markdown(blocks, run_dir), encoding="utf-8")
-    with atomic_path(run_dir / REPORT_HTML_FILE) as tmp:
-        tmp.write_text(to_html(blocks), encoding="utf-8")
+    md_path, _ = write_documents(report_blocks(run_dir), run_dir / REPORT_MD_FILE)
     return md_path

@@ -33,7 +33,9 @@ from diagnostics import (
     third_octave_f_min,
 )
 from diagnostics import plots as dplots
-from taichi_bearing.modulation import analysis_band
+from taichi_bearing.checks.modulation import analysis_band
+from taichi_bearing.output.layout import FIGURES_DIR, FIGURES_INDEX_FILE
+from taichi_bearing.output.run_folder import RunData, load_run, passage_events, sensor_acceleration
 from taichi_bearing.post.spall_figures import (
     OVERLAP_FIGURE,
     contact_forces,
@@ -41,14 +43,6 @@ from taichi_bearing.post.spall_figures import (
     fault_rate,
     load_sharing,
     overlaps,
-)
-from taichi_bearing.run_folder import (
-    FIGURES_DIR,
-    FIGURES_INDEX_FILE,
-    RunData,
-    load_run,
-    passage_events,
-    sensor_acceleration,
 )
 
 __all__ = [
@@ -479,7 +473,7 @@ def make_run_figures(run_dir: str | os.PathLike, sensor: str | None = None) -> d
     Parameters
     ----------
     run_dir : str or path-like
-        A run folder (:mod:`taichi_bearing.run_folder`): ``summary.json``, the histories,
+        A run folder (:mod:`taichi_bearing.output.run_folder`): ``summary.json``, the histories,
         ``case.yaml`` and ``frames/``.
     sensor : str, optional
         Sensor whose acceleration is analysed; default the first of ``sensor_names``.

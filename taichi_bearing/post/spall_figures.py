@@ -16,16 +16,15 @@ from pathlib import Path
 import numpy as np
 from matplotlib.figure import Figure
 
-from taichi_bearing.run_folder import (
+from taichi_bearing.output.layout import (
     FRAMES_DIR,
     PVD_FILE,
     RACES,
     TIME_COLUMN,
-    RunData,
-    passage_events,
     roller_force_column,
     roller_motion_column,
 )
+from taichi_bearing.output.run_folder import RunData, passage_events
 
 __all__ = [
     "OVERLAP_FIGURE",
@@ -177,7 +176,7 @@ def load_sharing(run: RunData) -> tuple[Figure, str, dict]:
     quasi-static model at the same cage angle, with the spall (the two rollers in it
     unloaded, the rest sharing the load) and without it.
     """
-    from taichi_bearing.quasistatic import solve_case
+    from taichi_bearing.analytic.quasistatic import solve_case
 
     pairs = overlaps(passage_events(run.summary))
     if not pairs:

@@ -15,17 +15,22 @@ import math
 from collections.abc import Mapping, Sequence
 from pathlib import Path
 
-from taichi_bearing.passages import passage_statistics
-from taichi_bearing.post.report import Para, Table, _figure, _pct, fmt
+from taichi_bearing.checks.passages import passage_statistics
+from taichi_bearing.checks.quantities import QUANTITY
+from taichi_bearing.output.run_folder import passage_events
+from taichi_bearing.post.document import Para, Table, figure_block, fmt, pct
 from taichi_bearing.post.spall_figures import OVERLAP_FIGURE, fault_rate, spall_race
 
 __all__ = [
     "checks_sentence",
+    "distribution_blocks",
+    "distribution_cells",
     "interval_blocks",
     "passage_sentences",
     "sharing_sentence",
     "spall_blocks",
     "spread",
+    "statistics_table",
     "verdict_blocks",
 ]
 
@@ -43,7 +48,7 @@ def _finite(value) -> float | None:
 
 
 def spread(events: Sequence[Mapping], name: str) -> dict:
-    """Median (:func:`~taichi_bearing.passages.passage_statistics`, as in summary.json),
+    """Median (:func:`~taichi_bearing.checks.passages.passage_statistics`, as in summary.json),
     smallest and largest value of ``name`` over the passages that measured it, and
     their number ``n`` (0: unknown)."""
     values = [x for e in events if (x := _finite(e.get(name))) is not None]
@@ -222,8 +227,6 @@ def verdict_blocks(summary: Mapping, figs: Mapping, record: str = "the record") 
     """The verdict: what the rollers did at the spall (every passage; for an inner-race
     spall which passages gave an event, for an extended one the load sharing), then the
     checks."""
-    from taichi_bearing.run_folder import passage_events
-
     inner = _inner_sentence(summary)
     out = [Para(inner)] if inner else []
     out.append(Para(" ".join(passage_sentences(passage_events(summary), record))))
@@ -252,7 +255,7 @@ def interval_blocks(summary: dict, exits: list[float]) -> list:
     return [
         Para(
             "Time between consecutive re-stressing events: "
-            + ", ".join(f"{fmt(1e3 * g)} ms ({_pct(g, period)})" for g in gaps)
+            + ", ".join(f"{fmt(1e3 * g)} ms ({pct(g, period)})" for g in gaps)
             + f" against 1/{name} = {fmt(1e3 * period)} ms ({name} {fmt(rate)} Hz)."
         )
     ]
@@ -266,7 +269,7 @@ def spall_blocks(summary: dict, figs: dict, run_dir: Path) -> list:
     entry = figs.get(OVERLAP_FIGURE)
     if entry and "values" in entry:
         out += _sharing(entry["values"], summary)
-        out += _figure(figs, run_dir, OVERLAP_FIGURE)
+        out += figure_block(figs, run_dir, OVERLAP_FIGURE)
     return out
 
 
@@ -350,3 +353,49 @@ def _sharing(values: dict, summary: dict) -> list:
     head = ["roller", "angle (deg)", "FE (kN)", "quasi-static, spall (kN)",
             "quasi-static, healthy (kN)"]  # fmt: skip
     return [Para(text), Table(head, rows)]
+
+
+def distribution_cells(stats: Mapping[str, float], scale: float = 1.0) -> list[str]:
+    """``median``, ``q25 to q75`` and ``n`` of
+    :func:`~taichi_bearing.checks.passages.passage_statistics` as table cells, each value
+    times ``scale``."""
+    n = int(stats.get("n") or 0)
+    if n == 0:
+        return ["-", "-", "0"]
+    med, q25, q75 = (scale * float(stats[k]) for k in ("median", "q25", "q75"))
+    iqr = f"{fmt(q25)} to {fmt(q75)}" if math.isfinite(q25) else "-"
+    return [fmt(med), iqr, str(n)]
+
+
+def statistics_table(stats: dict, names: Sequence[str]) -> Table:
+    """Median, interquartile range and count of each quantity, in its display unit (a
+    name :data:`~taichi_bearing.checks.quantities.QUANTITY` does not know: as it is, SI)."""
+    rows = []
+    for n in names:
+        q = QUANTITY.get(n)
+        label, unit, scale = (q.label, q.unit, q.scale) if q else (n, "SI", 1.0)
+        rows.append([label, unit, *distribution_cells(stats[n], scale)])
+    return Table(["quantity", "unit", "median", "interquartile range", "n"], rows)
+
+
+def distribution_blocks(summary: dict, n_passages: int) -> list:
+    """The run report's blocks for ``passage_statistics`` of summary.json: each passage
+    quantity's median and interquartile range over the run's ``n_passages`` passages, set
+    beside the per-passage table so that no single passage reads as the finding."""
+    stats = summary.get("passage_statistics")
+    if not stats:
+        return []
+    more = "`python -m taichi_bearing passages` runs more"
+    if n_passages == 1:
+        text = (
+            "The one passage's quantities (summary.json passage_statistics): one sample of "
+            f"a chaotic bounce, not yet a distribution ({more})."
+        )
+    else:
+        text = (
+            f"Each passage quantity over the {n_passages} passages: median and "
+            "interquartile range (summary.json passage_statistics). One passage is one "
+            "sample of a chaotic bounce, so these, not one passage's value, are the run's "
+            f"finding; few passages give a wide range ({more})."
+        )
+    return [Para(text), statistics_table(stats, list(stats))]

@@ -1,13 +1,14 @@
 """Explicit dynamics core in Taichi: plane-strain quadrilaterals, central differences,
-force contributors (penalty contact, a rigid cage), dynamic relaxation, the transient run.
+force contributors (penalty contact, a rigid cage), dynamic relaxation. The transient run,
+sample by sample with its output, is :func:`taichi_bearing.simulation.run_transient`.
 
 Typical use::
 
     from taichi_bearing.solver import (
         init_taichi, Material, Model, StiffnessDamping, HeldDirection, PrescribedRotation,
         RigidVelocity, PenaltyContact, ContactPair, ContactParameters, line_load, relax,
-        RunConfig, run_transient,
     )
+    from taichi_bearing.simulation import RunConfig, run_transient
 
     init_taichi("cpu")                              # explicit arch, f64, checked
     model = Model(mesh, Material(210e9, 0.3, 7850.0), thickness=0.05,
@@ -24,56 +25,46 @@ Typical use::
                                             checkpoint_interval=5e-3), out_dir="runs/x")
 
 Taichi must be initialised before :class:`Model` is built (its fields live in the runtime).
-Where things are: one step, :mod:`~taichi_bearing.solver.step`; how steps are launched,
+The names below load their modules on first use, so that the numpy-only modules
+(:mod:`~taichi_bearing.solver.element`, :mod:`~taichi_bearing.solver.contact_setup`,
+:mod:`~taichi_bearing.solver.loads`, ...) are imported without starting Taichi (the modal
+analysis and the reports use them).
+Where things are: one step, :mod:`~taichi_bearing.solver.step_phases`; how steps are launched,
 :mod:`~taichi_bearing.solver.stepping`; the element law,
-:mod:`~taichi_bearing.solver.element_law`; force contributors,
+:mod:`~taichi_bearing.solver.element_forces`; force contributors,
 :mod:`~taichi_bearing.solver.contributor`.
 """
 
-from taichi_bearing.solver.backend import current_arch, init_taichi
-from taichi_bearing.solver.cage import RigidCage
-from taichi_bearing.solver.contact import ContactPair, ContactParameters, PenaltyContact
-from taichi_bearing.solver.contributor import FORCE_QUANTUM, ForceContributor, add_force
-from taichi_bearing.solver.damping import StiffnessDamping
-from taichi_bearing.solver.engine import RunConfig, RunResult, run_transient
-from taichi_bearing.solver.loads import (
-    FixedNodes,
-    HeldDirection,
-    NodalForces,
-    PrescribedRotation,
-    RigidVelocity,
-    line_load,
-    rotation_angle,
-    uniform_load,
-)
-from taichi_bearing.solver.materials import Material
-from taichi_bearing.solver.model import Model
-from taichi_bearing.solver.relaxation import RelaxResult, relax
+import importlib
 
-__all__ = [
-    "FORCE_QUANTUM",
-    "ContactPair",
-    "ContactParameters",
-    "FixedNodes",
-    "ForceContributor",
-    "HeldDirection",
-    "Material",
-    "Model",
-    "NodalForces",
-    "PenaltyContact",
-    "PrescribedRotation",
-    "RelaxResult",
-    "RigidCage",
-    "RigidVelocity",
-    "RunConfig",
-    "RunResult",
-    "StiffnessDamping",
-    "add_force",
-    "current_arch",
-    "init_taichi",
-    "line_load",
-    "relax",
-    "rotation_angle",
-    "run_transient",
-    "uniform_load",
-]
+# Public name -> the module that defines it (PEP 562: loaded on first use).
+_EXPORTS = {
+    "backend": ("current_arch", "init_taichi"),
+    "cage": ("RigidCage",),
+    "contact": ("PenaltyContact",),
+    "contact_setup": ("ContactPair", "ContactParameters"),
+    "contributor": ("FORCE_QUANTUM", "ForceContributor", "add_force"),
+    "damping": ("StiffnessDamping",),
+    "loads": ("FixedNodes", "HeldDirection", "NodalForces", "PrescribedRotation",
+              "RigidVelocity", "line_load", "rotation_angle", "uniform_load"),
+    "model": ("Model",),
+    "relaxation": ("RelaxResult", "relax"),
+}  # fmt: skip
+_MODULE_OF = {name: module for module, names in _EXPORTS.items() for name in names}
+_MODULE_OF["Material"] = None  # the case's material (taichi_bearing.case.material)
+
+__all__ = sorted(_MODULE_OF)
+
+
+def __getattr__(name: str):
+    if name not in _MODULE_OF:
+        raise AttributeError(f"module 'taichi_bearing.solver' has no attribute {name!r}")
+    module = _MODULE_OF[name]
+    where = "taichi_bearing.case.material" if module is None else f"taichi_bearing.solver.{module}"
+    value = getattr(importlib.import_module(where), name)
+    globals()[name] = value  # later look-ups skip this function
+    return value
+
+
+def __dir__() -> list[str]:
+    return sorted(set(globals()) | set(__all__))

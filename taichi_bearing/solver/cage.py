@@ -5,14 +5,17 @@ Pocket ``j`` is centred on the radial line at angle ``pocket_angles[j] + angle``
 two flat walls parallel to that line, at ``+-half_gap`` from it (tangentially), spanning
 the cage ring ``inner_radius <= r <= outer_radius``. A surface node of roller ``j`` whose
 tangential offset from the pocket line exceeds ``half_gap`` penetrates a wall; it gets
-the force of :mod:`~taichi_bearing.solver.contact_law` (normal along the pocket's
-tangential direction, friction along the wall), the cage the reaction torque. The cage
+the force of its contact law (:mod:`~taichi_bearing.solver.laws.contact`: normal along
+the pocket's tangential direction) and friction along the wall
+(:mod:`~taichi_bearing.solver.laws.friction`), the cage the reaction torque. The cage
 angle and speed are integrated with the model's leapfrog: ``omega^{n+1/2} = omega^{n-1/2}
 + dt T^n / I``, ``angle^{n+1} = angle^n + dt omega^{n+1/2}``.
 
-Penalty stiffness of a node: ``"segment"``, the mean of the LS-DYNA stiffness
-``f_s K L^2 t / area`` of its two roller segments; ``"soft"``, ``f_s m / dt^2`` with the
-node mass (the cage counts as infinitely heavy next to one node).
+Penalty stiffness of a node: the law's
+(:meth:`~taichi_bearing.solver.laws.contact.ContactLaw.node_stiffness`): ``"segment"``, the
+mean of the LS-DYNA stiffness ``f_s K L^2 t / area`` of its two roller segments;
+``"soft"``, ``f_s m / dt^2`` with the node mass (the cage counts as infinitely heavy next
+to one node).
 """
 
 # No `from __future__ import annotations`: Taichi reads kernel annotations at definition.
@@ -23,9 +26,10 @@ import taichi as ti
 
 from taichi_bearing.errors import InputError
 from taichi_bearing.solver import transfer
-from taichi_bearing.solver.contact_law import friction_force, normal_force
-from taichi_bearing.solver.contact_setup import ContactParameters, segment_stiffness
+from taichi_bearing.solver.contact_setup import ContactParameters
 from taichi_bearing.solver.contributor import FORCE_QUANTUM, ForceContributor, add_force, force_at
+from taichi_bearing.solver.laws.contact import ContactLaw, contact_law
+from taichi_bearing.solver.laws.friction import friction_force
 from taichi_bearing.solver.model import Model
 from taichi_bearing.solver.team import share
 
@@ -56,6 +60,8 @@ class RigidCage(ForceContributor):
     start_speed : float
         Angular speed at time 0 of a transient (:meth:`start`), rad/s; e.g. ideal
         rolling.
+    law : ContactLaw, optional
+        The pocket walls' normal law; default the one ``params.penalty_method`` names.
     """
 
     def __init__(
@@ -70,6 +76,7 @@ class RigidCage(ForceContributor):
         params: ContactParameters,
         center: tuple[float, float] = (0.0, 0.0),
         start_speed: float = 0.0,
+        law: ContactLaw | None = None,
     ) -> None:
         if len(roller_surfaces) != len(pocket_angles) or not roller_surfaces:
             raise ValueError("need one pocket angle per roller surface")
@@ -78,28 +85,19 @@ class RigidCage(ForceContributor):
         if not (half_gap > 0 and inertia > 0):
             raise ValueError("half_gap and inertia must be positive")
         mesh = model.mesh
+        self.law = contact_law(params) if law is None else law
         nodes, roller, kk = [], [], []
-        lam, mu = model.lam_np, model.mu_np
         for j, name in enumerate(roller_surfaces):
             seg = np.asarray(mesh.surfaces[name], dtype=np.int64)
-            k_seg = segment_stiffness(
-                mesh, seg, lam, mu, model.area_np, model.thickness, params.penalty_scale
-            )
             ids = np.unique(seg.ravel())
-            k_sum = np.zeros(mesh.n_nodes)
-            count = np.zeros(mesh.n_nodes)
-            for end in (0, 1):
-                np.add.at(k_sum, seg[:, end], k_seg)
-                np.add.at(count, seg[:, end], 1.0)
             nodes.append(ids)
             roller.append(np.full(len(ids), j))
-            kk.append(k_sum[ids] / count[ids])
+            kk.append(self.law.node_stiffness(model, seg, ids))
         node_ids = np.concatenate(nodes).astype(np.int32)
-        if params.penalty_method == "segment":
-            # A spring k and dashpot c to the rigid cage: bounded by 2 k, 2 c on the node.
-            k_node = np.concatenate(kk)
-            c_node = 2.0 * params.damping_ratio * np.sqrt(k_node * model.mass_np[node_ids])
-            model.add_stiffness_bound(node_ids, 2.0 * k_node, 2.0 * c_node)
+        # a spring and a dashpot to the rigid cage (none for a law that follows the step)
+        bound = self.law.node_bound(np.concatenate(kk), model.mass_np[node_ids])
+        if bound is not None:
+            model.add_stiffness_bound(node_ids, *bound)
         self.n_rollers = nz = len(roller_surfaces)
         self.n_nodes = nn = len(node_ids)
         self.inertia = float(inertia)
@@ -109,8 +107,6 @@ class RigidCage(ForceContributor):
         self._cx, self._cy = (float(c) for c in center)
         self._r_in, self._r_out = float(inner_radius), float(outer_radius)
         self._h = float(half_gap)
-        self._soft = params.penalty_method == "soft"
-        self._scale, self._zeta = float(params.penalty_scale), float(params.damping_ratio)
         self._mu_s, self._mu_d = float(params.friction_static), float(params.friction_dynamic)
         self._decay = float(params.friction_decay)
         # Deeper than the gap no wall is meant (the node would be past the pocket centre).
@@ -241,14 +237,12 @@ class RigidCage(ForceContributor):
         self.en[n] = 0.0
         if side != 0:
             nv = -float(side) * et  # pushes the node back into the pocket
-            k = self.k[n]
             m = mass[i]
-            if ti.static(self._soft):
-                k = self._scale * m / (dt * dt)
+            k = self.law.stiffness(self.k[n], m, dt)
             vrel = v[i] - w * ti.Vector([-d[1], d[0]])
             vn = vrel.dot(nv)
             vt = vrel.dot(er)
-            fn, e_damp = normal_force(k, pen, self._zeta, m, vn, dt)
+            fn, e_damp = self.law.normal(k, pen, m, vn, dt)
             ft, e_t, e_fric = friction_force(
                 self.ft[n], self.et[n], k, vt, fn, dt, self._mu_s, self._mu_d, self._decay
             )
@@ -259,7 +253,7 @@ class RigidCage(ForceContributor):
             add_force(self.torque, 0, -(d[0] * F[1] - d[1] * F[0]))
             self.ft[n] = ft
             self.et[n] = e_t
-            self.en[n] = 0.5 * k * pen * pen
+            self.en[n] = self.law.energy(k, pen)
             self.diss[n] += ti.Vector([e_fric, e_damp])
 
     @ti.func

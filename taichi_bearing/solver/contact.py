@@ -46,7 +46,6 @@ import taichi as ti
 
 from taichi_bearing.solver import transfer
 from taichi_bearing.solver.backend import serial_loops
-from taichi_bearing.solver.contact_law import friction_force, normal_force
 from taichi_bearing.solver.contact_patch import arc_frame, patch_overlap
 from taichi_bearing.solver.contact_search import (
     build_grid,
@@ -60,14 +59,14 @@ from taichi_bearing.solver.contact_setup import (
     ContactPair,
     ContactParameters,
     grid_spec,
-    penalty_bounds,
     query_corners,
     query_neighbours,
     segment_curvature,
     segment_end_corners,
-    segment_stiffness,
 )
 from taichi_bearing.solver.contributor import FORCE_QUANTUM, ForceContributor, add_force, force_at
+from taichi_bearing.solver.laws.contact import ContactLaw, contact_law
+from taichi_bearing.solver.laws.friction import friction_force
 from taichi_bearing.solver.model import Model
 from taichi_bearing.solver.team import share
 
@@ -83,6 +82,9 @@ class PenaltyContact(ForceContributor):
     model : Model
     pairs : sequence of ContactPair
     params : ContactParameters
+    law : ContactLaw, optional
+        The normal law (:mod:`taichi_bearing.solver.laws.contact`); default the one
+        ``params.penalty_method`` names.
 
     Attributes
     ----------
@@ -98,12 +100,17 @@ class PenaltyContact(ForceContributor):
     """
 
     def __init__(
-        self, model: Model, pairs: Sequence[ContactPair], params: ContactParameters
+        self,
+        model: Model,
+        pairs: Sequence[ContactPair],
+        params: ContactParameters,
+        law: ContactLaw | None = None,
     ) -> None:
         if not pairs:
             raise ValueError("PenaltyContact needs at least one ContactPair")
         mesh = model.mesh
         self.params = params
+        self.law = contact_law(params) if law is None else law
         self.pairs = list(pairs)
         self.pair_names = [p.name for p in self.pairs]
         if len(set(self.pair_names)) != len(self.pair_names):
@@ -152,23 +159,14 @@ class PenaltyContact(ForceContributor):
             seg_surf.append(np.full(len(seg), m))
         segs = np.concatenate(segs)
         seg_surf = np.concatenate(seg_surf).astype(np.int32)
-        k_seg = segment_stiffness(
-            mesh,
-            segs,
-            model.lam_np,
-            model.mu_np,
-            model.area_np,
-            model.thickness,
-            params.penalty_scale,
-        )
-        if params.penalty_method == "segment":
-            # The soft penalty (m / dt^2) follows the step and needs no bound.
+        k_seg = self.law.segment_stiffness(model, segs)
+        if self.law.bounded:  # a law that follows the step (soft) needs no bound
             passes = [
                 (np.asarray(mesh.surfaces[names[i // ns]]), segs[seg_surf == i % ns],
                  k_seg[seg_surf == i % ns])
                 for i in np.flatnonzero(table >= 0)
             ]  # fmt: skip
-            k_node, c_node = penalty_bounds(mesh.nodes, passes, model.mass_np, params.damping_ratio)
+            k_node, c_node = self.law.contact_bound(model, passes)
             on = np.flatnonzero(k_node)
             model.add_stiffness_bound(on, k_node[on], c_node[on])
         kappa = np.zeros(len(segs))
@@ -275,8 +273,6 @@ class PenaltyContact(ForceContributor):
         self._ox, self._oy = (float(o) for o in g.origin)
         self._h, self._nx, self._ny = float(g.cell), int(g.nx), int(g.ny)
         self._capture, self._grow = float(g.capture), float(g.capture + g.margin)
-        self._soft = params.penalty_method == "soft"
-        self._scale, self._zeta = float(params.penalty_scale), float(params.damping_ratio)
         self._mu_s, self._mu_d = float(params.friction_static), float(params.friction_dynamic)
         self._decay = float(params.friction_decay)
         self._smooth = bool(params.smoothing)
@@ -440,13 +436,11 @@ class PenaltyContact(ForceContributor):
         tv, nv = arc_frame(self, s, xi, x)
         m_m = (1.0 - xi) * mass[ia] + xi * mass[ib]
         m_eff = mass[i] * m_m / (mass[i] + m_m)
-        k = self.seg_k[s]
-        if ti.static(self._soft):
-            k = self._scale * m_eff / (dt * dt)
+        k = self.law.stiffness(self.seg_k[s], m_eff, dt)
         vrel = v[i] - ((1.0 - xi) * v[ia] + xi * v[ib])
         vn = vrel.dot(nv)
         vt = vrel.dot(tv)
-        fn, e_damp = normal_force(k, pen, self._zeta, m_eff, vn, dt)
+        fn, e_damp = self.law.normal(k, pen, m_eff, vn, dt)
         # Friction: keep the stick state on the same or a neighbouring segment.
         old = self.q_seg[q]
         keep = 0
@@ -481,9 +475,9 @@ class PenaltyContact(ForceContributor):
         self.q_ft[q] = ft
         self.q_fn[q] = fn
         self.q_gap[q] = -pen
-        self.q_en[q] = 0.5 * k * pen * pen
+        self.q_en[q] = self.law.energy(k, pen)
         if ti.static(self._smooth):
-            self.q_en[q] = k * e_el
+            self.q_en[q] = self.law.patch_energy(k, e_el)
         self.q_et[q] = e_t
 
     # ------------------------------------------------------------------ Python-side hooks

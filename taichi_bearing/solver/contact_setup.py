@@ -4,7 +4,6 @@ list and the size of the search grid. No Taichi here (the kernels are in ``conta
 from __future__ import annotations
 
 import math
-from collections.abc import Sequence
 from dataclasses import dataclass
 
 import numpy as np
@@ -23,9 +22,6 @@ __all__ = [
     "segment_end_corners",
     "turn_angle",
     "segment_elements",
-    "penalty_bounds",
-    "segment_stiffness",
-    "window_share",
 ]
 
 PENALTY_METHODS = ("segment", "soft")
@@ -136,131 +132,6 @@ def segment_elements(mesh: Mesh, segments: np.ndarray) -> np.ndarray:
         a0, b0 = seg[np.argmax(missing)]
         raise ValueError(f"segment ({a0}, {b0}) is not an element edge")
     return owner[pos]
-
-
-def segment_stiffness(
-    mesh: Mesh,
-    segments: np.ndarray,
-    lam: np.ndarray,
-    mu: np.ndarray,
-    element_area: np.ndarray,
-    thickness: float,
-    scale: float,
-) -> np.ndarray:
-    """LS-DYNA segment penalty ``f_s K A^2 / V`` (N/m) of each segment.
-
-    ``K = lambda + 2 mu / 3`` of the owning element, ``A = L t``, ``V = area t``.
-    """
-    elem = segment_elements(mesh, segments)
-    length = np.linalg.norm(mesh.nodes[segments[:, 1]] - mesh.nodes[segments[:, 0]], axis=1)
-    bulk = lam[elem] + 2.0 * mu[elem] / 3.0
-    return scale * bulk * (length * thickness) ** 2 / (element_area[elem] * thickness)
-
-
-def window_share(nodes: np.ndarray, surface_segments: np.ndarray, length: float) -> float:
-    """Largest ``sum_j max(0, 1 - s_j / length)`` over the nodes of a surface (chains of
-    segments), ``s_j`` the arc distance from one of its nodes to node j (itself included):
-    the most the shape functions ``N`` of a segment node can gather from that surface's
-    nodes laid along its two segments of at most ``length`` each. Uniform spacing ``h``
-    gives ``1 + 2 sum_j (1 - j h / length)``; a few short segments (a spall's walls)
-    raise it only where they are. The sum of hats peaks at a node, so the nodes are the
-    only candidates."""
-    X = np.asarray(nodes, dtype=float)
-    segs = np.asarray(surface_segments, dtype=np.int64).reshape(-1, 2)
-    seg_len = np.linalg.norm(X[segs[:, 1]] - X[segs[:, 0]], axis=1)
-    links: dict[int, list[tuple[int, float]]] = {}
-    for (a, b), ln in zip(segs.tolist(), seg_len.tolist(), strict=True):
-        links.setdefault(a, []).append((b, ln))
-        links.setdefault(b, []).append((a, ln))
-    best = 1.0
-    for j, first in links.items():
-        total = 1.0
-        for nxt, ln in first:  # walk each way along the chain
-            prev, cur, dist = j, nxt, ln
-            while dist < length:
-                total += 1.0 - dist / length
-                ahead = [(n, lk) for n, lk in links[cur] if n != prev]
-                if not ahead or ahead[0][0] == j:
-                    break
-                prev, (cur, lk) = cur, ahead[0]
-                dist += lk
-        best = max(best, total)
-    return best
-
-
-def penalty_bounds(
-    nodes: np.ndarray,
-    passes: Sequence[tuple[np.ndarray, np.ndarray, np.ndarray]],
-    nodal_mass: np.ndarray,
-    damping_ratio: float,
-) -> tuple[np.ndarray, np.ndarray]:
-    """Per-node bound on the springs and dashpots penalty contact can add (for the
-    global time step, :meth:`~taichi_bearing.solver.model.Model.add_stiffness_bound`).
-
-    A query node in contact holds one spring ``k`` of the segment it touches (normal,
-    and the same stiffness tangentially while it sticks) to the point ``N1 x1 + N2 x2``
-    of that segment, one contact at a time over all its passes. Since
-    ``(x_s - N1 x1 - N2 x2)^2 <= 2 (x_s^2 + N1 x1^2 + N2 x2^2)``, the spring is bounded by
-    ``2 k`` on the query node and ``2 k N_i`` on each segment node, where the ``N_i`` of
-    all the query nodes on a segment node's two segments sum to at most
-    :func:`window_share` of the querying surface (query nodes laid along the segments).
-    One body touches a surface at a time, so each role takes its largest pass. A dashpot
-    ``2 zeta sqrt(k m_eff)``, ``m_eff = m_q m_s / (m_q + m_s)`` of the query node and the
-    segment point, is bounded the same way with the largest ``m_eff`` the pass allows
-    (heaviest node on the other side, heaviest of the node and its neighbours on the
-    segment side).
-
-    Parameters
-    ----------
-    nodes : ndarray (n_nodes, 2)
-        Reference coordinates.
-    passes : sequence of (query_segments, segments, segment_stiffness)
-        One entry per contact pass: the querying surface's segments (n, 2), the segments
-        (m, 2) it is checked against and their penalty stiffnesses (N/m).
-    nodal_mass : ndarray (n_nodes,)
-    damping_ratio : float
-
-    Returns
-    -------
-    stiffness, damping : ndarray (n_nodes,)
-        N/m and N s/m, zero off the contact surfaces.
-    """
-    X = np.asarray(nodes, dtype=float)
-    m = np.asarray(nodal_mass, dtype=float)
-    # largest bound over the passes, per role
-    k_query_role, k_seg_role = np.zeros(len(m)), np.zeros(len(m))
-    c_query_role, c_seg_role = np.zeros(len(m)), np.zeros(len(m))
-    shares: dict[tuple[bytes, float], float] = {}
-
-    def reduced_mass(a: float | np.ndarray, b: float | np.ndarray):
-        return a * b / (a + b)  # increasing in both: a bound from bounds on a and b
-
-    for query_segs, segs, k_seg in passes:
-        q = np.unique(query_segs)
-        seg_nodes = np.unique(segs)
-        k_max = float(np.max(k_seg))
-        m_eff_q = reduced_mass(m[q], float(m[seg_nodes].max()))
-        k_query_role[q] = np.maximum(k_query_role[q], 2.0 * k_max)
-        c_query_role[q] = np.maximum(
-            c_query_role[q], 4.0 * damping_ratio * np.sqrt(k_max * m_eff_q)
-        )
-        length = float(np.max(np.linalg.norm(X[segs[:, 1]] - X[segs[:, 0]], axis=1)))
-        key = (np.ascontiguousarray(query_segs).tobytes(), length)
-        if key not in shares:
-            shares[key] = window_share(X, query_segs, length)
-        share = shares[key]
-        local_k = np.zeros(len(m))  # stiffest segment at each node
-        local_m = np.zeros(len(m))  # heaviest node of the segments at each node
-        for end in (0, 1):
-            np.maximum.at(local_k, segs[:, end], k_seg)
-            np.maximum.at(local_m, segs[:, end], np.maximum(m[segs[:, 0]], m[segs[:, 1]]))
-        m_eff_s = reduced_mass(float(m[q].max()), local_m[seg_nodes])
-        k_seg_role[seg_nodes] = np.maximum(k_seg_role[seg_nodes], 2.0 * share * local_k[seg_nodes])
-        c_seg_role[seg_nodes] = np.maximum(
-            c_seg_role[seg_nodes],
-            4.0 * damping_ratio * share * np.sqrt(local_k[seg_nodes] * m_eff_s),
-        )
-    return k_query_role + k_seg_role, c_query_role + c_seg_role
 
 
 def _vertex_curvature(p: np.ndarray, a: np.ndarray, b: np.ndarray) -> np.ndarray:

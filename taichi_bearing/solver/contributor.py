@@ -5,7 +5,7 @@ A contributor subclasses :class:`ForceContributor` and overrides the hooks it ne
 hook has a default that does nothing. There are two kinds:
 
 * **kernel contributors** (``in_kernel = True``, the default) define Taichi functions that
-  the step body (:mod:`taichi_bearing.solver.step`) calls inside the model's step kernels,
+  the step body (:mod:`taichi_bearing.solver.step_phases`) calls inside the model's step kernels,
   in the phases of a step: :meth:`~ForceContributor.step_begin` (each member clears its
   share of what it sums), :meth:`~ForceContributor.step_share` (each member's share of the
   forces, beside its share of the elements) and :meth:`~ForceContributor.step_end`

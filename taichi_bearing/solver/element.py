@@ -15,12 +15,16 @@ so a few elements through a thickness bend without shear locking.
 
 from __future__ import annotations
 
+from collections.abc import Mapping
+
 import numpy as np
 import scipy.sparse as sp
 from scipy.sparse.linalg import eigsh
 
 from taichi_bearing.blas import one_blas_thread
+from taichi_bearing.case.material import Material
 from taichi_bearing.errors import InputError
+from taichi_bearing.mesh.types import Mesh
 
 __all__ = [
     "ElementGeometry",
@@ -30,7 +34,9 @@ __all__ = [
     "element_geometry",
     "element_max_frequencies",
     "element_stiffness",
+    "hooke_tangent",
     "hourglass_stiffness",
+    "materials_per_element",
     "selective_mass_scale",
 ]
 
@@ -110,12 +116,20 @@ def element_geometry(nodes: np.ndarray, elements: np.ndarray) -> ElementGeometry
 
 
 def element_stiffness(
-    geo: ElementGeometry, lam: np.ndarray, mu: np.ndarray, khg: np.ndarray, thickness: float
+    geo: ElementGeometry,
+    lam: np.ndarray,
+    mu: np.ndarray,
+    khg: np.ndarray,
+    thickness: float,
+    tangent: np.ndarray | None = None,
 ) -> np.ndarray:
     """Small-strain stiffness matrices (n_elements, 8, 8), dofs ordered (x0, y0, x1, ...).
 
     The tangent of the solver's element at the reference configuration: 1-point
-    uniform-strain part plus the hourglass stiffness ``khg`` (already times thickness).
+    uniform-strain part with the law's tangent (``tangent``, (n, 3, 3) in Voigt form, as
+    :meth:`~taichi_bearing.solver.laws.material.ElementLaw.tangent` gives it; default
+    Hooke's, :func:`hooke_tangent`) plus the hourglass stiffness ``khg`` (already times
+    thickness).
     """
     ne = len(geo.area)
     B = np.zeros((ne, 3, 8))
@@ -123,10 +137,7 @@ def element_stiffness(
     B[:, 1, 1::2] = geo.b[..., 1]
     B[:, 2, 0::2] = geo.b[..., 1]
     B[:, 2, 1::2] = geo.b[..., 0]
-    D = np.zeros((ne, 3, 3))
-    D[:, 0, 0] = D[:, 1, 1] = lam + 2 * mu
-    D[:, 0, 1] = D[:, 1, 0] = lam
-    D[:, 2, 2] = mu
+    D = hooke_tangent(lam, mu) if tangent is None else tangent
     K = np.einsum("eia,eij,ejb->eab", B, D, B) * (geo.area * thickness)[:, None, None]
     gg = np.einsum("ei,ej->eij", geo.gamma, geo.gamma) * khg[:, None, None]
     K[:, 0::2, 0::2] += gg
@@ -301,3 +312,32 @@ def selective_mass_scale(
         f = (target / step[idx]) ** 2
         scale[idx] = np.where(f > 1.0 + 1e-9, f, 1.0)
     return scale
+
+
+def hooke_tangent(lam: np.ndarray, mu: np.ndarray) -> np.ndarray:
+    """Hooke's plane-strain tangent in Voigt form (xx, yy, xy engineering shear), shape
+    (n, 3, 3) for arrays of the Lame constants (St Venant-Kirchhoff's at zero strain)."""
+    lam, mu = np.asarray(lam, dtype=float), np.asarray(mu, dtype=float)
+    D = np.zeros((*lam.shape, 3, 3))
+    D[..., 0, 0] = D[..., 1, 1] = lam + 2 * mu
+    D[..., 0, 1] = D[..., 1, 0] = lam
+    D[..., 2, 2] = mu
+    return D
+
+
+def materials_per_element(
+    mesh: Mesh, materials: Material | Mapping[str, Material]
+) -> tuple[np.ndarray, ...]:
+    """Per-element (lambda, mu, rho, E') arrays from one material or a part -> material map."""
+    if isinstance(materials, Material):
+        mats = [materials] * len(mesh.part_names)
+    else:
+        missing = [p for p in mesh.part_names if p not in materials]
+        if missing:
+            raise ValueError(f"no material given for parts {missing}")
+        mats = [materials[p] for p in mesh.part_names]
+    lam = np.array([m.lam for m in mats])[mesh.element_part]
+    mu = np.array([m.mu for m in mats])[mesh.element_part]
+    rho = np.array([m.density for m in mats])[mesh.element_part]
+    eprime = np.array([m.plane_strain_modulus for m in mats])[mesh.element_part]
+    return lam, mu, rho, eprime

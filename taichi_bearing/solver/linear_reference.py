@@ -12,13 +12,14 @@ import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
 from taichi_bearing.blas import one_blas_thread
+from taichi_bearing.case.material import Material
 from taichi_bearing.mesh.types import Mesh
 from taichi_bearing.solver.element import (
     element_geometry,
     element_stiffness,
     hourglass_stiffness,
+    materials_per_element,
 )
-from taichi_bearing.solver.materials import Material, materials_per_element
 
 __all__ = ["assemble_stiffness", "linear_static"]
 

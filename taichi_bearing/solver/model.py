@@ -1,9 +1,9 @@
 """The explicit model: the Taichi fields of a mesh's nodes and elements, its constraints,
 loads and sensors, its force contributors, and what is read back from it.
 
-What one step does is in :mod:`taichi_bearing.solver.step` (written once); how the steps
+What one step does is in :mod:`taichi_bearing.solver.step_phases` (written once); how the steps
 are launched, in :mod:`taichi_bearing.solver.stepping`; the element law, in
-:mod:`taichi_bearing.solver.element_law`; the stable step, in
+:mod:`taichi_bearing.solver.element_forces`; the stable step, in
 :mod:`taichi_bearing.solver.time_step`. :meth:`Model.advance` is the entry point.
 """
 
@@ -13,19 +13,15 @@ from collections.abc import Mapping, Sequence
 import numpy as np
 import taichi as ti
 
+from taichi_bearing.case.material import Material
 from taichi_bearing.mesh.types import Mesh
 from taichi_bearing.solver import stepping, transfer
 from taichi_bearing.solver.backend import current_arch
 from taichi_bearing.solver.contributor import ForceContributor
 from taichi_bearing.solver.damping import StiffnessDamping
-from taichi_bearing.solver.element import (
-    element_geometry,
-    element_max_frequencies,
-    element_stiffness,
-    hourglass_stiffness,
-    selective_mass_scale,
-)
-from taichi_bearing.solver.element_law import store_von_mises
+from taichi_bearing.solver.element_forces import store_von_mises
+from taichi_bearing.solver.energy_sums import MEASURE_BLOCK, measure_energies
+from taichi_bearing.solver.laws.material import ElementLaw, StVenantKirchhoff
 from taichi_bearing.solver.loads import (
     FixedNodes,
     HeldDirection,
@@ -34,34 +30,23 @@ from taichi_bearing.solver.loads import (
     RigidPlate,
     RigidVelocity,
 )
-from taichi_bearing.solver.materials import Material, materials_per_element
+from taichi_bearing.solver.model_setup import (
+    constraint_tables,
+    element_data,
+    load_tables,
+    rigid_velocity_field,
+)
 from taichi_bearing.solver.multirate import MAX_LEVELS, StepClasses, step_classes
-from taichi_bearing.solver.step import (
+from taichi_bearing.solver.step_phases import (
     ACTED_ON,
     EXTRA,
-    FIXED,
-    HELD,
     LOADED,
-    PLATE,
-    ROTATED,
     SENSOR,
 )
 from taichi_bearing.solver.team import TeamState
 from taichi_bearing.solver.time_step import CriticalStep
 
-__all__ = ["Model", "rigid_velocity_field"]
-
-MEASURE_BLOCK = 256  # items a thread sums in the energy read-out (Model.energies)
-
-
-def _adjacency(elements: np.ndarray, n_nodes: int) -> tuple[np.ndarray, np.ndarray]:
-    """CSR lists of the element-force slots (4 e + I) that act on each node."""
-    slots = np.arange(elements.size, dtype=np.int64)
-    node_of_slot = elements.ravel()
-    order = np.argsort(node_of_slot, kind="stable")
-    ptr = np.zeros(n_nodes + 1, dtype=np.int64)
-    np.cumsum(np.bincount(node_of_slot, minlength=n_nodes), out=ptr[1:])
-    return ptr.astype(np.int32), slots[order].astype(np.int32)
+__all__ = ["Model"]
 
 
 def _vec_field(n: int, dim: int = 2, dtype=ti.f64):
@@ -110,6 +95,9 @@ class Model:
         Multi-rate stepping (:mod:`~taichi_bearing.solver.multirate`): nodes whose elements
         allow it change their velocity only every 2, 4, ... ``2**multirate_levels`` steps;
         0 (default) = every node every step. Dynamic relaxation always steps every node.
+    material_law : ElementLaw, optional
+        The elements' constitutive law (:mod:`taichi_bearing.solver.laws.material`);
+        default St Venant-Kirchhoff.
 
     Notes
     -----
@@ -137,6 +125,7 @@ class Model:
         max_added_mass: float = 0.0,
         time_step: str = "element",
         multirate_levels: int = 0,
+        material_law: ElementLaw | None = None,
     ) -> None:
         if current_arch() is None:
             # Otherwise Taichi would start itself on a default arch with f32.
@@ -147,34 +136,26 @@ class Model:
         self.thickness = float(thickness)
         self.n_nodes = nn = mesh.n_nodes
         self.n_elements = ne = mesh.n_elements
-        elements = np.asarray(mesh.elements, dtype=np.int64)
-        geo = element_geometry(np.asarray(mesh.nodes, dtype=float), elements)
-        lam, mu, rho, eprime = materials_per_element(mesh, materials)
-        khg = hourglass_stiffness(geo, eprime, self.thickness, hourglass_scale)
-        k_el = element_stiffness(geo, lam, mu, khg, self.thickness)
-        omega_e = element_max_frequencies(geo, lam, mu, rho, khg, self.thickness, k_el)
-        part = np.asarray(mesh.element_part)
-        element_mass = rho * geo.area * self.thickness
-        rho_scale = selective_mass_scale(omega_e, element_mass, part, max_added_mass)
-        self.n_mass_scaled = int(np.count_nonzero(rho_scale > 1.0))
-        self.part_mass = np.bincount(part, weights=element_mass)  # before scaling
-        self.added_mass = np.bincount(part, weights=(rho_scale - 1.0) * element_mass)
-        rho = rho * rho_scale
-        omega_e = omega_e / np.sqrt(rho_scale)  # one element alone: omega ~ 1/sqrt(mass)
+        self.material_law = StVenantKirchhoff() if material_law is None else material_law
+        el = element_data(
+            mesh, materials, self.thickness, hourglass_scale, max_added_mass, damping,
+            self.material_law,
+        )  # fmt: skip
+        elements, geo, mass, beta_e = el.elements, el.geometry, el.mass, el.beta_e
+        self.n_mass_scaled, self.part_mass, self.added_mass = (
+            el.n_mass_scaled, el.part_mass, el.added_mass,
+        )  # fmt: skip
         self.damping = damping
-        beta_e = damping.element_beta(omega_e) if damping is not None else np.zeros(ne)
         self.damped = bool(np.any(beta_e > 0))
-        mass = np.zeros(nn)
-        np.add.at(mass, elements, geo.shape_integrals * (rho * self.thickness)[:, None])
-        if np.any(mass <= 0):
-            raise ValueError(f"node {int(np.argmin(mass))} belongs to no element (zero mass)")
         self.mass_np = mass
-        self.lam_np, self.mu_np = lam, mu  # Lame constants per element, Pa
+        self.lam_np, self.mu_np = el.lam, el.mu  # Lame constants per element, Pa
         self.area_np = geo.area
         self.time_step = time_step
         # The critical step is found when first read (contributors add their bounds
         # first); a step set with set_dt is kept while it stays stable.
-        self.critical = CriticalStep(time_step, k_el, elements, mass, omega_e, beta_e, dt_factor)
+        self.critical = CriticalStep(
+            time_step, el.stiffness, elements, mass, el.omega_e, beta_e, dt_factor
+        )
         self._dt_set: float | None = None
 
         # ---- nodes
@@ -191,7 +172,7 @@ class Model:
         self.bc = _scalar_field(nn, ti.i32)
         self.held_dir = _vec_field(nn)
         self.rot_group = _scalar_field(nn, ti.i32)
-        ptr, adj = _adjacency(elements, nn)
+        ptr, adj = el.adjacency
         self.adj_ptr = _scalar_field(nn + 1, ti.i32)
         self.adj = _scalar_field(adj.size, ti.i32)
         # ---- elements
@@ -209,7 +190,7 @@ class Model:
         self.e_hg = _scalar_field(ne)  # hourglass energy at the last recorded step
         self.e_damp = _scalar_field(ne)  # energy dissipated by damping so far
         # strain history of the damped elements: Green strain (xx, yy, xy) and hourglass
-        # sum at each element's previous evaluation (element_law.seed_strain_history)
+        # sum at each element's previous evaluation (element_forces.seed_strain_history)
         self.e_prev = _vec_field(ne if self.damped else 1, 3)
         self.q_prev = _vec_field(ne if self.damped else 1, 2)
         self.history_stale = True  # seed it before the next step
@@ -248,9 +229,9 @@ class Model:
             (self.by, geo.b[..., 1]),
             (self.gam, geo.gamma),
             (self.at, geo.area * self.thickness),
-            (self.khg, khg),
-            (self.lam, lam),
-            (self.mu, mu),
+            (self.khg, el.khg),
+            (self.lam, el.lam),
+            (self.mu, el.mu),
             (self.beta_e, beta_e),
         ]
         self.bad_element[None] = ne
@@ -275,37 +256,7 @@ class Model:
     # ------------------------------------------------------------------ setup helpers
 
     def _setup_constraints(self, constraints) -> None:
-        nn = self.n_nodes
-        bc = np.zeros(nn, dtype=np.int32)
-        held = np.zeros((nn, 2))
-        rgroup = np.full(nn, -1, dtype=np.int32)
-        rots: list[PrescribedRotation] = []
-        plates = [c for c in constraints if isinstance(c, RigidPlate)]
-        if len(plates) > 1:
-            raise ValueError("RigidPlate: at most one plate per model")
-        for c in constraints:
-            ids = np.asarray(c.nodes)
-            if ids.min() < 0 or ids.max() >= nn:
-                raise ValueError(f"{type(c).__name__}: node index out of range 0..{nn - 1}")
-            if isinstance(c, FixedNodes):
-                bc[ids] |= FIXED
-            elif isinstance(c, HeldDirection):
-                if np.any(bc[ids] & HELD):
-                    raise ValueError("HeldDirection: a node can hold only one direction")
-                bc[ids] |= HELD
-                held[ids] = c.direction
-            elif isinstance(c, PrescribedRotation):
-                if np.any(rgroup[ids] >= 0):
-                    raise ValueError("PrescribedRotation: a node is in two rotation sets")
-                bc[ids] |= ROTATED
-                rgroup[ids] = len(rots)
-                rots.append(c)
-            elif isinstance(c, RigidPlate):
-                if np.any(bc[ids] & (HELD | ROTATED)):
-                    raise ValueError("RigidPlate: nodes already held or rotated")
-                bc[ids] |= PLATE
-            else:
-                raise TypeError(f"unknown constraint {type(c).__name__}")
+        bc, held, rgroup, rots, plates = constraint_tables(constraints, self.n_nodes)
         self.rotations = rots
         self.plate = plates[0] if plates else None
         self.n_plate = len(self.plate.nodes) if plates else 0
@@ -330,13 +281,7 @@ class Model:
             self._uploads += [(self.rot_center, centers), (self.rot_par, par)]
 
     def _setup_loads(self, loads: Sequence[NodalForces]) -> None:
-        nodes, forces, ramps = [], [], []
-        for load in loads:
-            if len(load.nodes) and (load.nodes.min() < 0 or load.nodes.max() >= self.n_nodes):
-                raise ValueError("NodalForces: node index out of range")
-            nodes.append(load.nodes)
-            forces.append(load.forces)
-            ramps.append(np.full(len(load.nodes), load.ramp_time))
+        nodes, forces, ramps = load_tables(loads, self.n_nodes)
         self.loads = list(loads)
         self.n_load = nl = int(sum(len(n) for n in nodes))
         self.load_node = _scalar_field(nl, ti.i32)
@@ -547,47 +492,13 @@ class Model:
         """
         stepping.advance(self, n, record_last, mode, relax_damping)
 
-    # ------------------------------------------------------------------ kernels
-
-    @ti.kernel
-    def _k_measure(self):
-        # Blocks of MEASURE_BLOCK items, each summed by one thread, then the blocks by one
-        # thread (the compiled order is fixed, though fast math may regroup a loop's
-        # additions): the same sums on any thread count, without
-        # one thread's dependent chain over every node and element (on a GPU that chain
-        # took ~18 ms an output sample, more than the sample's 186 steps).
-        nb = self.n_node_blocks
-        for b in range(self.sum_parts.shape[0]):
-            s = ti.Vector([0.0, 0.0, 0.0], dt=ti.f64)
-            if b < nb:
-                for i in range(b * MEASURE_BLOCK, ti.min((b + 1) * MEASURE_BLOCK, self.n_nodes)):
-                    m = self.mass[i]
-                    u = self.x[i] - self.X[i]
-                    s += ti.Vector([0.5 * m * self.v_int[i].dot(self.v_int[i]), self.work[i],
-                                    m * u.dot(u)])  # fmt: skip
-            else:
-                e0 = (b - nb) * MEASURE_BLOCK
-                for e in range(e0, ti.min(e0 + MEASURE_BLOCK, self.n_elements)):
-                    s += ti.Vector([self.e_int[e], self.e_hg[e], self.e_damp[e]])
-            self.sum_parts[b] = s
-        for _ in range(1):
-            nodes = ti.Vector([0.0, 0.0, 0.0], dt=ti.f64)
-            elements = ti.Vector([0.0, 0.0, 0.0], dt=ti.f64)
-            for b in range(self.sum_parts.shape[0]):
-                if b < nb:
-                    nodes += self.sum_parts[b]
-                else:
-                    elements += self.sum_parts[b]
-            self.sums[0], self.sums[4], self.sums[5] = nodes[0], nodes[1], nodes[2]
-            self.sums[1], self.sums[2], self.sums[3] = elements[0], elements[1], elements[2]
-
     # ------------------------------------------------------------------ read-out
 
     def energies(self) -> dict[str, float]:
         """Energies at the last step run with ``record_last`` (J, for the thickness):
         kinetic, internal (strain), hourglass, damping (dissipated), external_work (done by
         loads, constraints and contributors), and ``mass_u2`` = sum m |u|^2."""
-        self._k_measure()
+        measure_energies(self)
         s = self.sums.to_numpy()
         return {
             "kinetic": float(s[0]),
@@ -664,11 +575,3 @@ class Model:
         self._dt_set = float(arrays["dt"])
         self.history_stale = not history or bool(arrays.get("history_stale", 0))
         self.history_key = None  # whatever the resumed run steps with
-
-
-def rigid_velocity_field(
-    nodes: np.ndarray, omega: float, center=(0.0, 0.0), velocity=(0.0, 0.0)
-) -> np.ndarray:
-    """Velocities ``velocity + omega x (X - center)`` of points ``nodes`` (n, 2)."""
-    r = nodes - np.asarray(center, dtype=float)
-    return np.asarray(velocity, dtype=float) + omega * np.stack([-r[:, 1], r[:, 0]], axis=1)

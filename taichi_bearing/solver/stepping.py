@@ -1,9 +1,9 @@
 """How the steps are launched: how many steps per kernel launch, on how many threads.
 
 :func:`advance` is the one time loop of the solver; the transient driver
-(:func:`taichi_bearing.solver.engine.run_transient`, per output sample) and dynamic
+(:func:`taichi_bearing.simulation.engine.run_transient`, per output sample) and dynamic
 relaxation (:func:`taichi_bearing.solver.relaxation.relax`, per damping update) call it.
-Every mode runs the same step body (:func:`taichi_bearing.solver.step.step_phase`, phase
+Every mode runs the same step body (:func:`taichi_bearing.solver.step_phases.step_phase`, phase
 by phase); they differ only in how the phases are launched:
 
 ``serial``
@@ -35,8 +35,8 @@ from taichi_bearing.solver.backend import (
     parallel_members,
     serial_loops,
 )
-from taichi_bearing.solver.element_law import record_element_energies, seed_strain_history
-from taichi_bearing.solver.step import GATHER, N_PHASES, SHARED, step_phase, step_times
+from taichi_bearing.solver.element_forces import record_element_energies, seed_strain_history
+from taichi_bearing.solver.step_phases import GATHER, N_PHASES, SHARED, step_phase, step_times
 from taichi_bearing.solver.team import TEAM_MAX_THREADS, barrier, join
 
 __all__ = [
@@ -381,7 +381,7 @@ def advance_phases(model, n: int, p0: int, p1: int, n_members: int = 1) -> None:
 
 def _seed_history(model, relax: bool) -> None:
     """Seed the damped elements' strain history from the velocities
-    (:func:`~taichi_bearing.solver.element_law.seed_strain_history`) where it does not
+    (:func:`~taichi_bearing.solver.element_forces.seed_strain_history`) where it does not
     hold the last steps: after a restart, a new state or step, or where the elements'
     steps change (relaxation is single-rate; a multi-rate transient steps class ``c``
     every ``2**c`` steps). A history read from a checkpoint is kept (bit-for-bit resume)."""

@@ -4,7 +4,7 @@ A Taichi CPU parallel loop ends in a thread-pool dispatch (~100 us on a 2-core V
 than one phase of a step of a 30k-element mesh takes. So on several CPU threads one launch
 runs a chunk of steps: each worker thread runs one team *member* (its
 ``ti.global_thread_idx()``) through every step of the chunk, doing the member's fixed
-share of each phase (:mod:`taichi_bearing.solver.step`), and the members meet at a spin
+share of each phase (:mod:`taichi_bearing.solver.step_phases`), and the members meet at a spin
 barrier between phases (an atomic add, ~1 us) instead of ending a parallel loop.
 
 Members join by claiming their thread's first item of an ``n_members * 1024``-item loop:

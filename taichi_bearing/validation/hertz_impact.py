@@ -18,7 +18,7 @@ from scipy.integrate import quad, solve_ivp
 from scipy.optimize import brentq
 from scipy.special import lambertw
 
-from taichi_bearing.bearing import hertz_half_width
+from taichi_bearing.analytic.bearing import hertz_half_width
 
 __all__ = [
     "LineContactLaw",

@@ -49,17 +49,17 @@ import numpy as np
 import scipy.sparse as sp
 from scipy.sparse.linalg import eigsh
 
-from taichi_bearing.bearing import hertz_half_width
+from taichi_bearing.analytic.bearing import hertz_half_width
 from taichi_bearing.blas import one_blas_thread
-from taichi_bearing.mesh.types import Mesh
-from taichi_bearing.solver.contact_bodies import (
+from taichi_bearing.case.material import Material
+from taichi_bearing.mesh.bodies import (
     cylinder_cap_mesh,
     graded_block_mesh,
     merge_meshes,
 )
+from taichi_bearing.mesh.types import Mesh
 from taichi_bearing.solver.element import element_geometry
 from taichi_bearing.solver.linear_reference import assemble_stiffness, linear_static
-from taichi_bearing.solver.materials import Material
 from taichi_bearing.validation.hertz_impact import (
     LineContactLaw,
     ReferenceImpact,
