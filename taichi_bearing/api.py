@@ -2,10 +2,10 @@
 
 >>> import taichi_bearing as tb
 >>> case = tb.load_case("cases/validation/coarse_spall.yaml",
-...                     ["run.duration_ms=0.05", "output.frames=false"])
+...                     ["run.duration_ms=0.05", "run.frame_interval_ms=0.05"])
 >>> run = tb.run(case, "coarse_run", threads=1)         # mesh, preload, transient, checks
->>> run.summary["status"], run.histories["time_s"].iloc[-1]
-('finished', 5e-05)
+>>> run.summary["status"], f"{1e3 * run.histories['time_s'].iloc[-1]:.3f} ms"
+('finished', '0.050 ms')
 >>> run.summary["n_rollers"], "roller0_outer_fn" in run.histories
 (20, True)
 >>> tb.load_run("coarse_run").summary == run.summary      # the folder alone, no Taichi

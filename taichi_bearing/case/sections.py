@@ -353,7 +353,8 @@ class Run:
         default=0,
         doc="multi-rate stepping: nodes whose elements allow 2, 4, ... 2**levels times the "
         "step change velocity only that often (nodes under contact, loads, constraints or "
-        "sensors every step); pays on locally refined meshes (benchmarks/bench_multirate.py); "
+        "sensors every step); pays on locally refined meshes "
+        "(benchmarks/taichi_bearing/bench_multirate.py); "
         "0 is off",
     )
     max_steps: int = key(

@@ -370,8 +370,9 @@ def _step_graph(model, n: int, damped: int, n_members: int) -> _StepGraph:
 def advance_phases(model, n: int, p0: int, p1: int, n_members: int = 1) -> None:
     """Run phases ``p0 <= p < p1`` only of ``n`` transient steps from the model's state, on
     the calling thread or by a team of ``n_members`` CPU threads: a profile of some
-    phases (``benchmarks/profile_step.py``, ``profile_team.py``). The model's clock and
-    contributors' counts are left as they were; what the phases write is not undone."""
+    phases (``benchmarks/taichi_bearing/profile_step.py``, ``profile_team.py``). The
+    model's clock and contributors' counts are left as they were; what the phases write is
+    not undone."""
     model.freeze_contributors()
     model.prepare_step_classes()
     _seed_history(model, False)

@@ -76,7 +76,7 @@ def barrier(team: ti.template(), passed, n_members):
 @ti.func
 def barrier_spins(team: ti.template(), passed, n_members):
     """:func:`barrier`, returning also how many times this member read the counter while
-    it waited (``benchmarks/profile_barriers.py`` counts them)."""
+    it waited (``benchmarks/taichi_bearing/profile_barriers.py`` counts them)."""
     out = passed + 1
     target = ti.i64(n_members) * out
     seen = ti.atomic_add(team.bar[None], 1) + 1

@@ -4,7 +4,7 @@ Taichi's own ``field.from_numpy``, ``to_numpy`` and ``fill`` take the field as a
 argument: each field compiles a kernel of its own at its first copy (~0.07 s on the 2-core
 VM). A bearing model has some forty fields to fill when it is built, so these small
 compiles took more time than the step's own (a third of the test suite's time,
-``benchmarks/bench_compile.py``). Here the fields of one call share one kernel per
+``benchmarks/taichi_bearing/bench_compile.py``). Here the fields of one call share one kernel per
 element type: one compile per call site and model instead of one per field. The copies
 are exact (no arithmetic), so every value is what Taichi's copies give.
 
