@@ -12,13 +12,8 @@ import numpy as np
 import pytest
 
 from taichi_bearing.solver.backend import init_taichi
-from taichi_bearing.validation.impact import (
-    ImpactBodies,
-    calibrate_size,
-    half_space_size,
-    make_reference,
-    run_level,
-)
+from taichi_bearing.validation.impact import make_reference, run_level
+from taichi_bearing.validation.impact_model import ImpactBodies, calibrate_size, half_space_size
 
 BODIES = ImpactBodies()
 
