@@ -6,11 +6,11 @@ Every CWRU or MFPT record below the folders given (``diagnostics.benchmark.find_
 the channel, speed and bearing its name implies) is diagnosed ``--draws`` times, each
 time with impacts at Poisson times added (2-20 a second, each 5-15 times the record's
 standard deviation with a log-normal scatter, ringing a resonance at 0.1-0.4 of the
-sampling rate; ``benchmarks/aperiodic_impulse_scenarios.random_impacts``), the draws
+sampling rate; ``benchmarks.diagnostics.aperiodic_impulse_scenarios.random_impacts``), the draws
 seeded by the record's name. It prints the records whose verdict differs from the label
 and one table: labelled fault named, and another fault named, per selector. Usage::
 
-    python benchmarks/records_with_random_impacts.py DIR [DIR ...] [--draws 2]
+    python benchmarks/diagnostics/records_with_random_impacts.py DIR [DIR ...] [--draws 2]
 """
 
 from __future__ import annotations
@@ -22,12 +22,11 @@ from pathlib import Path
 
 import numpy as np
 
-ROOT = Path(__file__).resolve().parents[1]
-sys.path.insert(0, str(ROOT))
-sys.path.insert(0, str(ROOT / "benchmarks"))
+ROOT = Path(__file__).resolve().parents[2]
+if __name__ == "__main__":  # run as a script: the repository's packages by name
+    sys.path.insert(0, str(ROOT))
 
-from aperiodic_impulse_scenarios import SELECTORS, random_impacts  # noqa: E402
-
+from benchmarks.diagnostics.aperiodic_impulse_scenarios import SELECTORS, random_impacts  # noqa: E402
 from diagnostics import diagnose  # noqa: E402
 from diagnostics.benchmark import find_records, label_from_name, read_labelled_record  # noqa: E402
 

@@ -12,13 +12,14 @@ is first decimated to 12 kHz (``--rate``; the fan-end fault records are 12 kHz).
 background is diagnosed as it is (the right verdict: ``none``) and with a fault of each
 type added (``--draws`` draws a size, seeded by the record's name): impacts at the fault
 frequency less 0-1 % of slip, jittered by 0.5 %, modulated as in
-``benchmarks/other_source_scenarios.py`` (inner race once a turn, ball once a cage turn),
+``benchmarks/diagnostics/other_source_scenarios.py`` (inner race once a turn, ball once a
+cage turn),
 ringing a resonance at 0.1-0.3 of the sampling rate, the impact ``--sizes`` times the
 channel's standard deviation. It prints each background's misses and one table per end
 of the bearing: the fault named, and another fault named, per size and type. Usage::
 
-    python benchmarks/faults_on_measured_backgrounds.py DIR [DIR ...] [--sizes 0.15 0.25 0.5 1]
-        [--draws 2] [--rate 12000]
+    python benchmarks/diagnostics/faults_on_measured_backgrounds.py DIR [DIR ...]
+        [--sizes 0.15 0.25 0.5 1] [--draws 2] [--rate 12000]
 """
 
 from __future__ import annotations
@@ -31,12 +32,11 @@ from pathlib import Path
 import numpy as np
 from scipy import signal
 
-ROOT = Path(__file__).resolve().parents[1]
-sys.path.insert(0, str(ROOT))
-sys.path.insert(0, str(ROOT / "benchmarks"))
+ROOT = Path(__file__).resolve().parents[2]
+if __name__ == "__main__":  # run as a script: the repository's packages by name
+    sys.path.insert(0, str(ROOT))
 
-from other_source_scenarios import FAULTS, fault_impacts  # noqa: E402
-
+from benchmarks.diagnostics.other_source_scenarios import FAULTS, fault_impacts  # noqa: E402
 from diagnostics import bearing_frequencies, diagnose  # noqa: E402
 from diagnostics.benchmark import _copies, find_records  # noqa: E402
 from diagnostics.datasets import label_from_name, read_labelled_record  # noqa: E402

@@ -10,7 +10,7 @@ band, where the envelope spectrum holds no fault lines. Each scenario draws the 
 rate of 25-30 Hz, unit noise and six shaft harmonics; odd scenarios add an outer-race,
 inner-race or ball fault (impacts 1.5-3 times the noise ringing a resonance at 0.1-0.3 of
 the sampling rate, jittered by 0.5 %, modulated as in
-``benchmarks/other_source_scenarios.py``). Every scenario adds impacts at Poisson times,
+``benchmarks/diagnostics/other_source_scenarios.py``). Every scenario adds impacts at Poisson times,
 2-30 a second, each 3-20 times a fault impact (log-normal scatter), ringing at 0.5-1.8
 times the fault's resonance.
 
@@ -19,7 +19,8 @@ same draws at each size): an outer-race, inner-race or ball fault whose impacts 
 1.3 times the noise's standard deviation, 3-8 s, 12 or 48 kHz, either bearing; a third
 the same per fault type. Usage::
 
-    python benchmarks/aperiodic_impulse_scenarios.py [--scenarios 60] [--seed 0] [--weak 24]
+    python benchmarks/diagnostics/aperiodic_impulse_scenarios.py [--scenarios 60] [--seed 0]
+        [--weak 24]
 """
 
 from __future__ import annotations
@@ -31,18 +32,17 @@ from pathlib import Path
 
 import numpy as np
 
-ROOT = Path(__file__).resolve().parents[1]
-sys.path.insert(0, str(ROOT))
-sys.path.insert(0, str(ROOT / "benchmarks"))
+ROOT = Path(__file__).resolve().parents[2]
+if __name__ == "__main__":  # run as a script: the repository's packages by name
+    sys.path.insert(0, str(ROOT))
 
-from other_source_scenarios import (  # noqa: E402
+from benchmarks.diagnostics.other_source_scenarios import (  # noqa: E402
     BEARINGS,
     FAULTS,
     base_record,
     fault_impacts,
     rings,
 )
-
 from diagnostics import bearing_frequencies, diagnose  # noqa: E402
 
 SELECTORS = ("kurtogram", "infogram")

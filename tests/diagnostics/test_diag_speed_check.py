@@ -5,24 +5,20 @@ nominal speed): faults found and no false alarms where the speed given was 1-4 %
 from __future__ import annotations
 
 import json
-import sys
 from pathlib import Path
 
 import numpy as np
 import pytest
+from synthetic_records import FREQS, GEOMETRY, SHAFT_HZ, fault_signal
 
+from benchmarks.diagnostics.other_source_scenarios import scenario
+from benchmarks.diagnostics.speed_error_scan import scaled
 from diagnostics import diagnose
 from diagnostics.benchmark import find_records, run_benchmark
 from diagnostics.cli import main
 from diagnostics.speed import shaft_lines, speed_check
 
-ROOT = Path(__file__).resolve().parents[1]
-sys.path.insert(0, str(ROOT / "tests"))
-sys.path.insert(0, str(ROOT))
-from test_diag_diagnose import FREQS, GEOMETRY, SHAFT_HZ, fault_signal  # noqa: E402
-
-from benchmarks.other_source_scenarios import scenario  # noqa: E402
-from benchmarks.speed_error_scan import scaled  # noqa: E402
+ROOT = Path(__file__).resolve().parents[2]
 
 BEARING = "n=9,d=7.94mm,D=39.04mm,angle=0"
 FS = 12000.0
@@ -240,9 +236,9 @@ def test_dev_records_shaft_lines(dev_records):
 def test_speed_error_scan_prints_its_table(tmp_path, capsys):
     """benchmarks/speed_error_scan.py on a folder of CWRU-named synthetic records: one row
     per factor, faults and other-end checks with the check off and on."""
-    from test_diag_benchmark import _cwru_file, _impacts
+    from synthetic_records import cwru_file, impacts
 
-    from benchmarks.speed_error_scan import main as scan
+    from benchmarks.diagnostics.speed_error_scan import main as scan
     from diagnostics import bearing_frequencies
     from diagnostics.datasets import CWRU_DRIVE_END
 
@@ -250,9 +246,9 @@ def test_speed_error_scan_prints_its_table(tmp_path, capsys):
     folder.mkdir()
     shaft = 1797 / 60.0
     n = int(2 * FS)
-    x = _impacts(FS, bearing_frequencies(CWRU_DRIVE_END, shaft).bpfo, 2.0, 1) + harmonics(shaft, n)
+    x = impacts(FS, bearing_frequencies(CWRU_DRIVE_END, shaft).bpfo, 2.0, 1) + harmonics(shaft, n)
     noise = np.random.default_rng(5).standard_normal(n)
-    _cwru_file(folder, "12k_Drive_End_OR007@6_0_130.mat", 130, x, noise, rpm=1797)
+    cwru_file(folder, "12k_Drive_End_OR007@6_0_130.mat", 130, x, noise, rpm=1797)
     assert scan([str(tmp_path), "--factors", "1.0", "1.03"]) == 0
     rows = capsys.readouterr().out.splitlines()[-2:]
     assert rows[0].split() == ["1.000", "1/1", "->", "1/1", "1/1", "->", "1/1"]

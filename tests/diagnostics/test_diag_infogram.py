@@ -3,21 +3,18 @@
 from __future__ import annotations
 
 import math
-import sys
 from pathlib import Path
 
 import numpy as np
 import pytest
 
+from benchmarks.diagnostics.aperiodic_impulse_scenarios import main as scenarios_main
+from benchmarks.diagnostics.aperiodic_impulse_scenarios import scenario, weak_scenario
 from diagnostics import diagnose
 from diagnostics.kurtosis import Infogram, infogram, kurtogram, kurtogram_and_infogram
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "benchmarks"))
-from aperiodic_impulse_scenarios import main as scenarios_main  # noqa: E402
-from aperiodic_impulse_scenarios import scenario, weak_scenario  # noqa: E402
-
 FS = 12000.0
-DATA = Path(__file__).resolve().parents[2] / "shared" / "data"
+DATA = Path(__file__).resolve().parents[3] / "shared" / "data"
 
 
 def _rings(n: int, times: np.ndarray, resonance: float, size) -> np.ndarray:
@@ -100,7 +97,7 @@ def test_bad_inputs_are_named(kwargs, match):
         infogram(x, FS, **kwargs)
 
 
-def test_diagnose_names_faults_beside_random_impacts():
+def test_diagnose_names_faults_beside_randomimpacts():
     """benchmarks/aperiodic_impulse_scenarios.py, its first 12 scenarios: faults beside
     impacts at random times up to 20 times as strong, ringing another resonance. With the
     kurtogram's band the random impacts hide every fault; the infogram's band names most,
@@ -215,18 +212,18 @@ def test_records_with_random_impacts_script(tmp_path, capsys):
     outer-race record, two draws of random impacts 5-15 times its standard deviation: the
     infogram's band names the fault at least once and as often as the kurtogram's, neither
     names another; a folder without records is refused."""
-    from records_with_random_impacts import main as records_main
-    from test_diag_benchmark import _cwru_file, _impacts
+    from synthetic_records import cwru_file, impacts
 
+    from benchmarks.diagnostics.records_with_random_impacts import main as records_main
     from diagnostics import bearing_frequencies
     from diagnostics.datasets import CWRU_DRIVE_END
 
     folder = tmp_path / "cwru"
     folder.mkdir()
     shaft, n = 1797 / 60.0, int(2 * FS)
-    x = _impacts(FS, bearing_frequencies(CWRU_DRIVE_END, shaft).bpfo, 2.0, 1)
+    x = impacts(FS, bearing_frequencies(CWRU_DRIVE_END, shaft).bpfo, 2.0, 1)
     noise = np.random.default_rng(5).standard_normal(n)
-    _cwru_file(folder, "12k_Drive_End_OR007@6_0_130.mat", 130, x, noise, rpm=1797)
+    cwru_file(folder, "12k_Drive_End_OR007@6_0_130.mat", 130, x, noise, rpm=1797)
     assert records_main([str(folder), "--draws", "2"]) == 0
     out = capsys.readouterr().out.splitlines()
     assert "labelled fault named (2)" in out[-4]
@@ -246,8 +243,8 @@ def test_faults_on_measured_backgrounds_script(capsys):
     fault of each type with impacts as strong as the channel's standard deviation is named
     on every one. Of cwru48k/, the five fan-end channels that copy the drive end's are
     left out."""
-    from faults_on_measured_backgrounds import backgrounds
-    from faults_on_measured_backgrounds import main as backgrounds_main
+    from benchmarks.diagnostics.faults_on_measured_backgrounds import backgrounds
+    from benchmarks.diagnostics.faults_on_measured_backgrounds import main as backgrounds_main
 
     found = list(backgrounds([DATA / "cwru"], 12000.0))
     assert sorted(end for _, end, *_ in found) == ["drive"] + ["fan"] * 5

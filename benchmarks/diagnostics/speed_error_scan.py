@@ -6,7 +6,7 @@ as a speed read off a name plate or a nominal value would be, and every CWRU rec
 accelerometer with the other end's (healthy) bearing, where the right verdict is ``none``.
 The table gives the records named right of each set, with the check off and on. Usage::
 
-    python benchmarks/speed_error_scan.py [DATA] [--factors 0.96 0.98 1 1.02 1.04]
+    python benchmarks/diagnostics/speed_error_scan.py [DATA] [--factors 0.96 0.98 1 1.02 1.04]
 
 ``DATA`` is the folder holding ``cwru/``, ``cwru48k/`` and ``mfpt/`` (default
 ``../shared/data``).
@@ -18,8 +18,9 @@ import argparse
 import sys
 from pathlib import Path
 
-ROOT = Path(__file__).resolve().parents[1]
-sys.path.insert(0, str(ROOT))
+ROOT = Path(__file__).resolve().parents[2]
+if __name__ == "__main__":  # run as a script: the repository's packages by name
+    sys.path.insert(0, str(ROOT))
 
 from diagnostics import diagnose  # noqa: E402
 from diagnostics.benchmark import find_records, run_benchmark  # noqa: E402

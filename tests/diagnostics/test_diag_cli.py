@@ -14,7 +14,7 @@ import pytest
 
 from diagnostics.cli import main, parse_bearing
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[2]
 BEARING = "n=9,d=7.94mm,D=39.04mm,angle=0"
 SUMMARY_KEYS = {
     "fault_frequencies_hz",
@@ -121,8 +121,7 @@ def test_cli_names_the_stronger_series_of_another_component(cwru_dir, tmp_path, 
 def test_cli_names_a_slower_train(tmp_path, capsys):
     """Impacts at half of BPFI (0.3 % off) on a healthy bearing: the inner-race comb is set
     aside as a slower period, and the line says at what rate the impacts repeat."""
-    sys.path.insert(0, str(ROOT / "tests"))
-    from test_diag_diagnose import FREQS, fault_signal
+    from synthetic_records import FREQS, fault_signal
 
     path = tmp_path / "half.npz"
     x = fault_signal(12000.0, 0.5 * 1.003 * FREQS.bpfi, 4500.0, seed=101)
@@ -142,8 +141,7 @@ def test_cli_names_a_slower_train(tmp_path, capsys):
 def test_cli_says_a_ball_was_named_by_a_line_and_its_sideband(tmp_path, capsys):
     """One line at 2 x BSF with a weaker one a cage rate below: the verdict is ball, and the
     printed evidence says it rests on the line and its sideband, not a pair of harmonics."""
-    sys.path.insert(0, str(ROOT / "tests"))
-    from test_diag_sidebands import modulated_noise
+    from synthetic_records import modulated_noise
 
     from diagnostics.datasets import CWRU_DRIVE_END
     from diagnostics.frequencies import bearing_frequencies
@@ -217,7 +215,7 @@ def test_parse_bearing_units():
 
 
 def test_markers_name_the_comb_that_found_the_fault():
-    from test_diag_diagnose import gated_ball_impacts
+    from synthetic_records import gated_ball_impacts
 
     from diagnostics.cli import _markers
     from diagnostics.diagnose import diagnose

@@ -2,32 +2,20 @@
 
 from __future__ import annotations
 
-import sys
 from dataclasses import replace
-from pathlib import Path
 
 import numpy as np
 import pytest
+from synthetic_records import modulated_noise
 
+from benchmarks.diagnostics.aperiodic_impulse_scenarios import weak_scenario
 from diagnostics import diagnose
 from diagnostics.datasets import CWRU_DRIVE_END, CWRU_FAN_END
 from diagnostics.diagnose import FamilyScore, _off_shaft, _sideband_p, _unique_evidence
 from diagnostics.frequencies import bearing_frequencies
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "benchmarks"))
-from aperiodic_impulse_scenarios import weak_scenario  # noqa: E402
-
 FS = 12000.0
 SHAFT_HZ = 29.95
-
-
-def modulated_noise(lines: dict[float, float], seconds: float = 4.0, seed: int = 0, fs=FS):
-    """Unit noise whose squared envelope is ``1 + sum(a cos 2 pi f t)`` (``lines``: f ->
-    a): lines in its envelope spectrum at those frequencies alone, no harmonics."""
-    rng = np.random.default_rng(seed)
-    t = np.arange(int(seconds * fs)) / fs
-    power = 1.0 + sum(a * np.cos(2 * np.pi * f * t) for f, a in lines.items())
-    return rng.standard_normal(t.size) * np.sqrt(power)
 
 
 def test_sideband_p_takes_the_stronger_side_but_never_one_above_its_line():

@@ -17,7 +17,7 @@ from scipy.io import savemat
 import diagnostics as dg
 from diagnostics.cli import main
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[2]
 FS = 12000.0
 GEOMETRY = dg.BearingGeometry(9, 7.94e-3, 39.04e-3)
 BEARING = "n=9,d=7.94mm,D=39.04mm"

@@ -2,17 +2,12 @@
 
 from __future__ import annotations
 
-import sys
-from pathlib import Path
-
 import numpy as np
 import pytest
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
-
-from benchmarks.other_source_scenarios import KINDS, main, other_rate, scenario  # noqa: E402
-from diagnostics import bearing_frequencies  # noqa: E402
-from diagnostics.datasets import CWRU_DRIVE_END, CWRU_FAN_END  # noqa: E402
+from benchmarks.diagnostics.other_source_scenarios import KINDS, main, other_rate, scenario
+from diagnostics import bearing_frequencies
+from diagnostics.datasets import CWRU_DRIVE_END, CWRU_FAN_END
 
 
 def test_scenarios_are_reproducible_and_cycle_the_kinds():

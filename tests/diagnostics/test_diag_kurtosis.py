@@ -2,13 +2,11 @@
 
 from __future__ import annotations
 
-import sys
-from pathlib import Path
-
 import numpy as np
 import pytest
 from scipy import signal
 
+from benchmarks.diagnostics.kurtogram_reference import reference_kurtogram
 from diagnostics.kurtosis import (
     analysis_filters,
     kurtogram,
@@ -16,9 +14,6 @@ from diagnostics.kurtosis import (
     sk_threshold,
     spectral_kurtosis,
 )
-
-sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "benchmarks"))
-from kurtogram_reference import reference_kurtogram  # noqa: E402
 
 FS = 20_000.0
 RESONANCE = 3500.0

@@ -16,7 +16,7 @@ dyadic and one-third band tree of the prewhitened record, and prints:
 A healthy record (CWRU 97) gives the scale: its strongest series is what a fault-free
 bearing shows. Usage::
 
-    python benchmarks/periodicity_scan.py ../shared/data/cwru48k/*174.mat \
+    python benchmarks/diagnostics/periodicity_scan.py ../shared/data/cwru48k/*174.mat \
         ../shared/data/cwru48k/*201.mat ../shared/data/cwru/normal_0_97.mat --decimate 4
 """
 
@@ -30,8 +30,9 @@ from pathlib import Path
 import numpy as np
 from scipy import signal
 
-ROOT = Path(__file__).resolve().parents[1]
-sys.path.insert(0, str(ROOT))
+ROOT = Path(__file__).resolve().parents[2]
+if __name__ == "__main__":  # run as a script: the repository's packages by name
+    sys.path.insert(0, str(ROOT))
 
 from diagnostics import diagnose  # noqa: E402
 from diagnostics.datasets import read_labelled_record  # noqa: E402

@@ -3,16 +3,11 @@ level ``alpha`` bounds the rate at which ``diagnose`` calls such a record faulty
 
 from __future__ import annotations
 
-import sys
-from pathlib import Path
-
 import numpy as np
 import pytest
 
+from benchmarks.diagnostics.noise_false_alarms import KINDS, main, record
 from diagnostics import diagnose
-
-sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "benchmarks"))
-from noise_false_alarms import KINDS, main, record  # noqa: E402
 
 
 def test_records_draw_each_background_without_a_fault():

@@ -3,16 +3,11 @@ fault frequencies rank."""
 
 from __future__ import annotations
 
-import sys
-from pathlib import Path
-
 import numpy as np
 import pytest
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
-
-from benchmarks.periodicity_scan import scan_signal, series_scores, tree_bands  # noqa: E402
-from diagnostics.frequencies import BearingGeometry, bearing_frequencies  # noqa: E402
+from benchmarks.diagnostics.periodicity_scan import scan_signal, series_scores, tree_bands
+from diagnostics.frequencies import BearingGeometry, bearing_frequencies
 
 GEOMETRY = BearingGeometry(9, 7.94e-3, 39.04e-3)  # CWRU drive end
 SHAFT_HZ = 29.95

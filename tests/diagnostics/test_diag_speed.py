@@ -132,7 +132,7 @@ def test_estimate_speed_is_not_carried_by_loud_lines_off_the_shaft_harmonics():
     assert est.confidence > 0.9
 
 
-DATA = Path(__file__).resolve().parents[2] / "shared" / "data"
+DATA = Path(__file__).resolve().parents[3] / "shared" / "data"
 
 
 def test_estimate_speed_on_measured_records():
@@ -316,11 +316,9 @@ def test_low_resonance_at_48k_is_diagnosed_in_orders(seed):
     """Scenarios of benchmarks/varying_speed_scenarios.py that the order domain missed from
     the true profile (48 kHz, a 1.5 kHz resonance, 2.4-2.9x ramps up; outer, ball, inner):
     most of the order band analysed then held nothing or came and went with the speed."""
-    import sys
 
-    sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
-    from benchmarks.varying_speed_scenarios import GEOMETRY as BENCH_GEOMETRY
-    from benchmarks.varying_speed_scenarios import scenario
+    from benchmarks.diagnostics.varying_speed_scenarios import GEOMETRY as BENCH_GEOMETRY
+    from benchmarks.diagnostics.varying_speed_scenarios import scenario
 
     fault, fs, rate, x, _ = scenario(seed)
     assert fault != "none" and fs == 48000.0

@@ -16,8 +16,8 @@ rate (12, 48 or 48.828 kHz), 2-10 s at a shaft rate of 10-40 Hz, and a backgroun
 
 No fault is added: every fault named is a false alarm. Usage::
 
-    python benchmarks/noise_false_alarms.py [--records 200] [--seed 0] [--alphas 1e-4 1e-2 0.1]
-        [--min-modulation 0.05]
+    python benchmarks/diagnostics/noise_false_alarms.py [--records 200] [--seed 0]
+        [--alphas 1e-4 1e-2 0.1] [--min-modulation 0.05]
 """
 
 from __future__ import annotations
@@ -30,8 +30,9 @@ from pathlib import Path
 import numpy as np
 from scipy import signal
 
-ROOT = Path(__file__).resolve().parents[1]
-sys.path.insert(0, str(ROOT))
+ROOT = Path(__file__).resolve().parents[2]
+if __name__ == "__main__":  # run as a script: the repository's packages by name
+    sys.path.insert(0, str(ROOT))
 
 from diagnostics import diagnose  # noqa: E402
 from diagnostics.datasets import CWRU_DRIVE_END, CWRU_FAN_END, MFPT_BEARING  # noqa: E402

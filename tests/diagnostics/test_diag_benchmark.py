@@ -9,7 +9,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 from scipy.io import savemat
-from test_diag_diagnose import fault_signal
+from synthetic_records import cwru_file, impacts
 
 from diagnostics.benchmark import find_records, run_benchmark, summary_table
 from diagnostics.cli import main
@@ -22,7 +22,7 @@ from diagnostics.datasets import (
 )
 from diagnostics.frequencies import bearing_frequencies
 
-DATA = Path(__file__).resolve().parents[2] / "shared" / "data"
+DATA = Path(__file__).resolve().parents[3] / "shared" / "data"
 
 NAMES = {
     "12k_Drive_End_IR007_0_105.mat": ("CWRU", "inner", "drive", 0.007, "", "0", 12000.0),
@@ -82,21 +82,6 @@ def test_bearings_reproduce_the_published_defect_frequencies():
     assert (f.bpfo, f.bpfi) == pytest.approx((81.1, 118.9), abs=0.1)
 
 
-def _impacts(fs: float, rate: float, seconds: float, seed: int) -> np.ndarray:
-    """Resonance at 3 kHz struck at ``rate`` (1 % jitter) in unit noise."""
-    return fault_signal(fs, rate, 3000.0, amplitude=4.0, duration_s=seconds, jitter=0.01,
-                        seed=seed)  # fmt: skip
-
-
-def _cwru_file(folder: Path, name: str, number: int, de, fe, rpm=None) -> Path:
-    variables = {f"X{number:03d}_DE_time": de[:, None], f"X{number:03d}_FE_time": fe[:, None]}
-    if rpm is not None:
-        variables[f"X{number:03d}RPM"] = np.array([[rpm]])
-    path = folder / name
-    savemat(path, variables)
-    return path
-
-
 @pytest.fixture
 def synthetic_set(tmp_path):
     """A drive-end outer-race record, a fan-end inner-race record (fault only on the fan-end
@@ -108,11 +93,11 @@ def synthetic_set(tmp_path):
     bpfi_fan = bearing_frequencies(CWRU_FAN_END, 1772 / 60.0).bpfi
     folder = tmp_path / "cwru"
     folder.mkdir()
-    _cwru_file(folder, "12k_Drive_End_OR007@6_0_130.mat", 130, _impacts(fs, bpfo, 2.0, 1),
+    cwru_file(folder, "12k_Drive_End_OR007@6_0_130.mat", 130, impacts(fs, bpfo, 2.0, 1),
                noise, rpm=1797)  # fmt: skip
-    _cwru_file(folder, "12k_Fan_End_IR007_1_279.mat", 279, noise, _impacts(fs, bpfi_fan, 2.0, 2))
+    cwru_file(folder, "12k_Fan_End_IR007_1_279.mat", 279, noise, impacts(fs, bpfi_fan, 2.0, 2))
     normal = np.random.default_rng(6).standard_normal(int(2 * 48000.0))
-    _cwru_file(folder, "normal_0_97.mat", 97, normal, normal, rpm=1797)
+    cwru_file(folder, "normal_0_97.mat", 97, normal, normal, rpm=1797)
     (folder / "readme.mat").write_bytes(b"")  # not a record name: ignored
     return folder
 
@@ -232,45 +217,6 @@ def test_a_csv_path_that_cannot_be_written_is_refused_before_the_records(synthet
         assert main(["benchmark", str(synthetic_set), "--csv", bad]) == 2
         out, err = capsys.readouterr()
         assert out == "" and err.startswith("error: --csv") and len(err.splitlines()) == 1
-
-
-def test_progress_lines_wait_for_their_interval(monkeypatch):
-    """A line only once the interval has passed since the last (the clock is driven here:
-    12 s a record, a 20 s interval), none for the last record, whose line is the summary."""
-    import io
-
-    from diagnostics import progress
-
-    now = iter(np.arange(0.0, 1000.0, 12.0))
-    monkeypatch.setattr(progress, "_clock", lambda: float(next(now)))
-    log = io.StringIO()
-    shown = progress.RecordProgress(6, file=log, log_every_s=20.0)
-    for k in range(6):
-        shown.update(f"r{k}.mat")
-    shown.close()
-    assert log.getvalue().splitlines() == [
-        "benchmark: 2 of 6 records, 24 s, last r1.mat",
-        "benchmark: 4 of 6 records, 48 s, last r3.mat",
-        "benchmark: 6 records in 84 s",
-    ]
-
-
-def test_progress_is_a_bar_on_a_terminal():
-    import io
-
-    from bearing_io.progress import RecordProgress
-
-    class Terminal(io.StringIO):
-        def isatty(self):
-            return True
-
-    screen = Terminal()
-    shown = RecordProgress(3, file=screen)
-    for k in range(3):
-        shown.update(f"r{k}.mat")
-    shown.close()
-    last = screen.getvalue().split("\r")[-1]
-    assert "benchmark: 100%" in last and "3/3" in last and "r2.mat" in last
 
 
 def test_other_bearing_progress_counts_the_cwru_records(synthetic_set, tmp_path, capsys):

@@ -5,17 +5,13 @@ from __future__ import annotations
 
 import dataclasses
 import pickle
-import sys
-from pathlib import Path
 
 import numpy as np
 import pytest
 
+from benchmarks.diagnostics.compare_diagnoses import first_difference, main, plain
+from benchmarks.diagnostics.other_source_scenarios import scenario
 from diagnostics import diagnose
-
-sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "benchmarks"))
-from compare_diagnoses import first_difference, main, plain  # noqa: E402
-from other_source_scenarios import scenario  # noqa: E402
 
 
 @pytest.fixture(scope="module")

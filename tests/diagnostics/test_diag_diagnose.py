@@ -4,19 +4,14 @@ measured CWRU records."""
 from __future__ import annotations
 
 import math
-import sys
-from pathlib import Path
 
 import numpy as np
 import pytest
 from scipy import signal
+from synthetic_records import FREQS, GEOMETRY, SHAFT_HZ, fault_signal, gated_ball_impacts
 
 from diagnostics.diagnose import diagnose, normalised_envelope_spectrum, prewhiten
-from diagnostics.frequencies import BearingGeometry, bearing_frequencies
-
-GEOMETRY = BearingGeometry(9, 7.94e-3, 39.04e-3)  # CWRU drive end, SKF 6205
-SHAFT_HZ = 29.95
-FREQS = bearing_frequencies(GEOMETRY, SHAFT_HZ)
+from diagnostics.frequencies import bearing_frequencies
 
 # file, sampling rate, expected verdict (README of the data folder)
 CWRU = {
@@ -26,37 +21,6 @@ CWRU = {
     "97": ("normal_0_97.mat", 48000.0, "none"),
     "118": ("12k_Drive_End_B007_0_118.mat", 12000.0, "ball"),
 }
-
-
-def fault_signal(
-    fs: float,
-    rate_hz: float,
-    resonance_hz: float,
-    amplitude: float = 3.0,
-    duration_s: float = 2.0,
-    mod_hz: float = 0.0,
-    mod_depth: float = 0.0,
-    jitter: float = 0.005,
-    seed: int = 0,
-) -> np.ndarray:
-    """Decaying resonances struck at ``rate_hz`` (random period jitter), in unit white noise.
-
-    With ``mod_hz`` the impact amplitude follows ``1 + mod_depth cos(2 pi mod_hz t)``, as an
-    inner-race defect turning through the load zone.
-    """
-    rng = np.random.default_rng(seed)
-    n = int(duration_s * fs)
-    periods = (1.0 + jitter * rng.standard_normal(int(duration_s * rate_hz) + 10)) / rate_hz
-    times = np.cumsum(periods)
-    times = times[times < duration_s - 0.01]
-    tail = np.arange(int(0.01 * fs)) / fs
-    response = np.exp(-600.0 * tail) * np.sin(2 * np.pi * resonance_hz * tail)
-    x = np.zeros(n)
-    for t in times:
-        i = int(round(t * fs))
-        weight = amplitude * (1.0 + mod_depth * math.cos(2 * math.pi * mod_hz * t))
-        x[i : i + response.size] += weight * response[: n - i]
-    return x + rng.standard_normal(n)
 
 
 @pytest.mark.parametrize("fs", [12000.0, 48000.0])
@@ -259,25 +223,6 @@ def test_cwru_verdict_does_not_depend_on_fs(cwru_records):
 # --- rolling elements: the cage-rate series ----------------------------------------------
 
 
-def gated_ball_impacts(fs: float, seconds: float, jitter: float, seed: int) -> np.ndarray:
-    """A damaged ball striking at 2 x BSF with a wandering spin axis (``jitter`` of random
-    spacing, so the lines at 2 BSF smear), only while it is in the load zone: a third of
-    each cage turn, once per FTF. Unit noise."""
-    rng = np.random.default_rng(seed)
-    n = int(seconds * fs)
-    x = rng.standard_normal(n)
-    tail = np.arange(int(0.004 * fs)) / fs
-    ring = 4.0 * np.exp(-900.0 * tail) * np.sin(2 * np.pi * 3500.0 * tail)
-    t = 0.01
-    while t < seconds - 0.01:
-        in_zone = np.mod(t * FREQS.ftf, 1.0) < 1.0 / 3.0
-        if in_zone:
-            i = int(t * fs)
-            x[i : i + ring.size] += ring[: n - i]
-        t += (1.0 + jitter * rng.standard_normal()) / (2.0 * FREQS.bsf)
-    return x
-
-
 def test_ball_fault_named_by_its_cage_rate_series_when_2bsf_lines_smear():
     x = gated_ball_impacts(12000.0, 5.0, jitter=0.08, seed=3)
     d = diagnose(x, 12000.0, GEOMETRY, SHAFT_HZ)
@@ -377,8 +322,7 @@ def test_healthy_bearing_beside_another_impact_train_is_healthy():
     inner comb that the train fed set aside. (In scenario 34 the outer pair passes in the
     kurtogram's band, so the rule is tested there; the infogram's band, the default, holds
     no outer pair at all.)"""
-    sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
-    from benchmarks.other_source_scenarios import scenario
+    from benchmarks.diagnostics.other_source_scenarios import scenario
 
     _, fault, kind, _, fs, geometry, shaft, x = scenario(34)
     assert (fault, kind) == ("none", "random")

@@ -16,8 +16,8 @@ Each diagnosis is reduced to plain data (every dataclass field, arrays as their 
 floats as their hex) and the two sets compared; it prints each diagnosis that differs and
 the first field where it does, and exits with status 1 if any does. Usage::
 
-    python benchmarks/compare_diagnoses.py DIR [DIR ...] [--baseline REV]
-    python benchmarks/compare_diagnoses.py --synthetic-only [--baseline REV]
+    python benchmarks/diagnostics/compare_diagnoses.py DIR [DIR ...] [--baseline REV]
+    python benchmarks/diagnostics/compare_diagnoses.py --synthetic-only [--baseline REV]
 """
 
 from __future__ import annotations
@@ -33,7 +33,7 @@ from pathlib import Path
 
 import numpy as np
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[2]
 
 
 def plain(obj):
@@ -99,11 +99,12 @@ def snapshot(folders: list[str], synthetic: bool) -> dict:
                 d = diagnose(rec.x, rec.fs, rec.geometry, rec.shaft_hz, band_selector=selector)
                 out[(Path(path).name, "other end" if other else "", selector)] = plain(d)
     if synthetic:
-        sys.path.insert(0, str(ROOT / "benchmarks"))
-        from aperiodic_impulse_scenarios import weak_scenario
-        from other_source_scenarios import scenario
-        from varying_speed_scenarios import GEOMETRY
-        from varying_speed_scenarios import scenario as varying_scenario
+        # This checkout's scenario scripts, after diagnostics: the one imported stays.
+        sys.path.insert(0, str(ROOT))
+        from benchmarks.diagnostics.aperiodic_impulse_scenarios import weak_scenario
+        from benchmarks.diagnostics.other_source_scenarios import scenario
+        from benchmarks.diagnostics.varying_speed_scenarios import GEOMETRY
+        from benchmarks.diagnostics.varying_speed_scenarios import scenario as varying_scenario
 
         for seed in range(12):
             *_, fs, geometry, shaft, x = scenario(seed)

@@ -13,7 +13,7 @@ run, on the same signal, and checks they agree:
 Goals (on the 2-core machine): kurtogram < 0.3 s and >= 2x the reference with
 identical output; diagnose < 1 s.
 
-Usage: ``python benchmarks/bench_diagnostics.py [--repeat N]``
+Usage: ``python benchmarks/diagnostics/bench_diagnostics.py [--repeat N]``
 """
 
 from __future__ import annotations
@@ -26,12 +26,11 @@ from pathlib import Path
 
 import numpy as np
 
-ROOT = Path(__file__).resolve().parents[1]
-sys.path.insert(0, str(ROOT))
-sys.path.insert(0, str(ROOT / "benchmarks"))
+ROOT = Path(__file__).resolve().parents[2]
+if __name__ == "__main__":  # run as a script: the repository's packages by name
+    sys.path.insert(0, str(ROOT))
 
-from kurtogram_reference import reference_kurtogram  # noqa: E402
-
+from benchmarks.diagnostics.kurtogram_reference import reference_kurtogram  # noqa: E402
 from diagnostics.kurtosis import Kurtogram, kurtogram  # noqa: E402
 
 FS = 48_000.0

@@ -25,7 +25,7 @@ from diagnostics.compare import (
     summary_lines,
 )
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[2]
 GEOMETRY = BearingGeometry(9, 7.94e-3, 39.04e-3)
 FIGURES = {
     "compare_time.png",

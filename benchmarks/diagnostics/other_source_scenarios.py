@@ -16,7 +16,7 @@ source: an impact train ringing its own resonance, its impacts jittered by 0.5 %
 at 1 to 4 times the strength of the fault's impacts. Half the scenarios are healthy, the
 others hold an outer-race, inner-race or ball fault. Usage::
 
-    python benchmarks/other_source_scenarios.py [--scenarios 240] [--seed 0]
+    python benchmarks/diagnostics/other_source_scenarios.py [--scenarios 240] [--seed 0]
 """
 
 from __future__ import annotations
@@ -28,8 +28,9 @@ from pathlib import Path
 
 import numpy as np
 
-ROOT = Path(__file__).resolve().parents[1]
-sys.path.insert(0, str(ROOT))
+ROOT = Path(__file__).resolve().parents[2]
+if __name__ == "__main__":  # run as a script: the repository's packages by name
+    sys.path.insert(0, str(ROOT))
 
 from diagnostics import bearing_frequencies, diagnose  # noqa: E402
 from diagnostics.datasets import CWRU_DRIVE_END, CWRU_FAN_END  # noqa: E402

@@ -10,7 +10,7 @@ once a turn and ball impacts once a cage turn, six shaft harmonics (2/m) and uni
 every other healthy record also carries mains lines (50, 100, 150 Hz) that do not move
 with the speed. Verdicts come from ``diagnose`` in the order domain. Usage::
 
-    python benchmarks/varying_speed_scenarios.py [--faulty 60] [--healthy 80] [--seed 0]
+    python benchmarks/diagnostics/varying_speed_scenarios.py [--faulty 60] [--healthy 80] [--seed 0]
 """
 
 from __future__ import annotations
@@ -21,8 +21,9 @@ from pathlib import Path
 
 import numpy as np
 
-ROOT = Path(__file__).resolve().parents[1]
-sys.path.insert(0, str(ROOT))
+ROOT = Path(__file__).resolve().parents[2]
+if __name__ == "__main__":  # run as a script: the repository's packages by name
+    sys.path.insert(0, str(ROOT))
 
 from diagnostics import BearingGeometry, bearing_frequencies, diagnose  # noqa: E402
 from diagnostics.speed import estimate_speed, shaft_angle  # noqa: E402
