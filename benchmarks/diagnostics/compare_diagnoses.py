@@ -24,6 +24,7 @@ from __future__ import annotations
 
 import argparse
 import dataclasses
+import importlib
 import os
 import pickle
 import subprocess
@@ -83,11 +84,13 @@ def first_difference(a, b, where: str = "") -> str:
 
 def snapshot(folders: list[str], synthetic: bool) -> dict:
     """Every diagnosis this process's ``diagnostics`` gives, as plain data by a key."""
-    # diagnostics first: the scenario scripts put this checkout's folder first on the path,
-    # and the module already imported is the one they then use.
+    # diagnostics first, the one on this process's PYTHONPATH; this checkout's folder goes
+    # on the path only afterwards (for its scenario scripts), and the package imported stays.
     from diagnostics import diagnose
-    from diagnostics.benchmark import find_records, labelled_records
-    from diagnostics.datasets import read_labelled_record
+
+    benchmark, datasets = _app_modules()
+    find_records, labelled_records = benchmark.find_records, benchmark.labelled_records
+    read_labelled_record = datasets.read_labelled_record
 
     out = {}
     paths = [p for folder in folders for p in find_records(folder)]
@@ -118,6 +121,32 @@ def snapshot(folders: list[str], synthetic: bool) -> dict:
             _, fs, rate, x, _ = varying_scenario(seed)
             out[("varying speed", seed)] = plain(diagnose(x, fs, GEOMETRY, rate))
     return out
+
+
+def _app_modules():
+    """``(benchmark, datasets)`` of this process's ``diagnostics``: in ``diagnostics.app``
+    since issue 42, at the package's top level before. A baseline from before the move gets
+    its modules registered under the new names too, for the scenario scripts of this
+    checkout (which import ``diagnostics.app.datasets``)."""
+    try:
+        from diagnostics.app import benchmark, datasets
+    except ModuleNotFoundError as exc:
+        if exc.name != "diagnostics.app":
+            raise
+        import types
+
+        benchmark = importlib.import_module("diagnostics.benchmark")
+        datasets = importlib.import_module("diagnostics.datasets")
+        app = types.ModuleType("diagnostics.app")
+        app.benchmark, app.datasets = benchmark, datasets
+        sys.modules.update(
+            {
+                "diagnostics.app": app,
+                "diagnostics.app.benchmark": benchmark,
+                "diagnostics.app.datasets": datasets,
+            }
+        )
+    return benchmark, datasets
 
 
 def run_snapshot(source: Path, folders: list[str], synthetic: bool, out: Path) -> None:

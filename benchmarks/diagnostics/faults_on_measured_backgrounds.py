@@ -38,8 +38,8 @@ if __name__ == "__main__":  # run as a script: the repository's packages by name
 
 from benchmarks.diagnostics.other_source_scenarios import FAULTS, fault_impacts  # noqa: E402
 from diagnostics import bearing_frequencies, diagnose  # noqa: E402
-from diagnostics.benchmark import _copies, find_records  # noqa: E402
-from diagnostics.datasets import label_from_name, read_labelled_record  # noqa: E402
+from diagnostics.app.benchmark import _copies, find_records  # noqa: E402
+from diagnostics.app.datasets import label_from_name, read_labelled_record  # noqa: E402
 
 OTHER_END = {"drive": "fan", "fan": "drive"}
 

@@ -35,7 +35,7 @@ if __name__ == "__main__":  # run as a script: the repository's packages by name
     sys.path.insert(0, str(ROOT))
 
 from diagnostics import diagnose  # noqa: E402
-from diagnostics.datasets import CWRU_DRIVE_END, CWRU_FAN_END, MFPT_BEARING  # noqa: E402
+from diagnostics.app.datasets import CWRU_DRIVE_END, CWRU_FAN_END, MFPT_BEARING  # noqa: E402
 
 BEARINGS = {"CWRU drive end": CWRU_DRIVE_END, "CWRU fan end": CWRU_FAN_END, "MFPT": MFPT_BEARING}
 KINDS = ("white", "coloured", "heavy-tailed", "mains", "shaft")

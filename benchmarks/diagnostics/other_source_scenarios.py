@@ -33,7 +33,7 @@ if __name__ == "__main__":  # run as a script: the repository's packages by name
     sys.path.insert(0, str(ROOT))
 
 from diagnostics import bearing_frequencies, diagnose  # noqa: E402
-from diagnostics.datasets import CWRU_DRIVE_END, CWRU_FAN_END  # noqa: E402
+from diagnostics.app.datasets import CWRU_DRIVE_END, CWRU_FAN_END  # noqa: E402
 
 BEARINGS = {"drive end": (CWRU_DRIVE_END, CWRU_FAN_END), "fan end": (CWRU_FAN_END, CWRU_DRIVE_END)}
 KINDS = ("other bearing", "sub-multiple", "random")

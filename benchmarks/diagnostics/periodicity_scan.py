@@ -34,16 +34,15 @@ ROOT = Path(__file__).resolve().parents[2]
 if __name__ == "__main__":  # run as a script: the repository's packages by name
     sys.path.insert(0, str(ROOT))
 
-from diagnostics import diagnose  # noqa: E402
-from diagnostics.datasets import read_labelled_record  # noqa: E402
-from diagnostics.diagnose import (  # noqa: E402
-    _demod_band,
-    _line_values,
-    _shaft_mask,
+from diagnostics import (  # noqa: E402
+    bearing_frequencies,
+    diagnose,
     normalised_envelope_spectrum,
     prewhiten,
 )
-from diagnostics.frequencies import bearing_frequencies  # noqa: E402
+from diagnostics._bands import _demod_band  # noqa: E402
+from diagnostics._comb import _line_values, _shaft_mask  # noqa: E402
+from diagnostics.app.datasets import read_labelled_record  # noqa: E402
 
 SLIP = 0.02
 

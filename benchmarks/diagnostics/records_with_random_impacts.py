@@ -28,7 +28,7 @@ if __name__ == "__main__":  # run as a script: the repository's packages by name
 
 from benchmarks.diagnostics.aperiodic_impulse_scenarios import SELECTORS, random_impacts  # noqa: E402
 from diagnostics import diagnose  # noqa: E402
-from diagnostics.benchmark import find_records, label_from_name, read_labelled_record  # noqa: E402
+from diagnostics.app.benchmark import find_records, label_from_name, read_labelled_record  # noqa: E402
 
 
 def with_random_impacts(x: np.ndarray, fs: float, seed: int) -> np.ndarray:

@@ -23,7 +23,7 @@ if __name__ == "__main__":  # run as a script: the repository's packages by name
     sys.path.insert(0, str(ROOT))
 
 from diagnostics import diagnose  # noqa: E402
-from diagnostics.benchmark import find_records, run_benchmark  # noqa: E402
+from diagnostics.app.benchmark import find_records, run_benchmark  # noqa: E402
 
 
 def scaled(factor: float):

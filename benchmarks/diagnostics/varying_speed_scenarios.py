@@ -25,8 +25,13 @@ ROOT = Path(__file__).resolve().parents[2]
 if __name__ == "__main__":  # run as a script: the repository's packages by name
     sys.path.insert(0, str(ROOT))
 
-from diagnostics import BearingGeometry, bearing_frequencies, diagnose  # noqa: E402
-from diagnostics.speed import estimate_speed, shaft_angle  # noqa: E402
+from diagnostics import (  # noqa: E402
+    BearingGeometry,
+    bearing_frequencies,
+    diagnose,
+    estimate_speed,
+    shaft_angle,
+)
 
 GEOMETRY = BearingGeometry(9, 7.94e-3, 39.04e-3)  # CWRU drive end, SKF 6205
 ORDERS = bearing_frequencies(GEOMETRY, 1.0)

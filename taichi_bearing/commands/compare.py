@@ -78,7 +78,7 @@ def simulated_record(run_dir: Path, sensor: str | None = None):
     """
     import numpy as np
 
-    from diagnostics.compare import Record
+    from diagnostics.app.compare import Record
     from taichi_bearing.bearing import fault_frequencies
     from taichi_bearing.run_folder import acceleration_signal, load_run
 
@@ -111,8 +111,8 @@ def simulated_record(run_dir: Path, sensor: str | None = None):
 
 
 def main(args: argparse.Namespace) -> int:
-    from diagnostics.cli import UsageError, parse_bearing
-    from diagnostics.compare import compare_records, measured_record, summary_lines
+    from diagnostics.app.cli import UsageError, parse_bearing
+    from diagnostics.app.compare import compare_records, measured_record, summary_lines
     from taichi_bearing.run_folder import COMPARE_DIR
 
     _positive(args.fs, "--fs", "frequency in Hz")

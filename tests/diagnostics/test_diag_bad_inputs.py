@@ -15,7 +15,7 @@ import pytest
 from scipy.io import savemat
 
 import diagnostics as dg
-from diagnostics.cli import main
+from diagnostics.app.cli import main
 
 ROOT = Path(__file__).resolve().parents[2]
 FS = 12000.0

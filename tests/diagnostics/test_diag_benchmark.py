@@ -11,16 +11,16 @@ import pytest
 from scipy.io import savemat
 from synthetic_records import cwru_file, impacts
 
-from diagnostics.benchmark import find_records, run_benchmark, summary_table
-from diagnostics.cli import main
-from diagnostics.datasets import (
+from diagnostics import bearing_frequencies
+from diagnostics.app.benchmark import find_records, run_benchmark, summary_table
+from diagnostics.app.cli import main
+from diagnostics.app.datasets import (
     CWRU_DRIVE_END,
     CWRU_FAN_END,
     MFPT_BEARING,
     label_from_name,
     read_labelled_record,
 )
-from diagnostics.frequencies import bearing_frequencies
 
 DATA = Path(__file__).resolve().parents[3] / "shared" / "data"
 
@@ -310,7 +310,7 @@ def test_detail_says_what_the_shaft_lines_did_to_the_speed(synthetic_set):
     impacts in noise) says so."""
     from types import SimpleNamespace
 
-    from diagnostics.speed import ShaftLines
+    from diagnostics import ShaftLines
 
     def moved(x, fs, geometry, shaft_hz):
         lines = ShaftLines(shaft_hz, 0.993 * shaft_hz, 20, 10, 50.0, 1e-10, 0.05)

@@ -12,7 +12,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from diagnostics.cli import main, parse_bearing
+from diagnostics.app.cli import main, parse_bearing
 
 ROOT = Path(__file__).resolve().parents[2]
 BEARING = "n=9,d=7.94mm,D=39.04mm,angle=0"
@@ -108,9 +108,9 @@ def test_cli_names_the_stronger_series_of_another_component(cwru_dir, tmp_path, 
     assert summary["other_series"]["fundamental"] == pytest.approx(3.5848 * 1796 / 60, rel=0.01)
     printed = capsys.readouterr().out
     assert "not named: ball (its lines belong to a stronger series at 107" in printed
-    from diagnostics.cli import _markers
-    from diagnostics.datasets import CWRU_FAN_END, read_labelled_record
-    from diagnostics.diagnose import diagnose
+    from diagnostics import diagnose
+    from diagnostics.app.analyze import _markers
+    from diagnostics.app.datasets import CWRU_FAN_END, read_labelled_record
 
     rec = read_labelled_record(cwru_dir / "48k_Drive_End_OR007@6_0_135.mat", end="fan")
     marks = _markers(diagnose(rec.x, rec.fs, CWRU_FAN_END, rec.shaft_hz))
@@ -143,8 +143,8 @@ def test_cli_says_a_ball_was_named_by_a_line_and_its_sideband(tmp_path, capsys):
     printed evidence says it rests on the line and its sideband, not a pair of harmonics."""
     from synthetic_records import modulated_noise
 
-    from diagnostics.datasets import CWRU_DRIVE_END
-    from diagnostics.frequencies import bearing_frequencies
+    from diagnostics import bearing_frequencies
+    from diagnostics.app.datasets import CWRU_DRIVE_END
 
     f = bearing_frequencies(CWRU_DRIVE_END, 1797.0 / 60.0)
     path = tmp_path / "ball.npz"
@@ -217,9 +217,8 @@ def test_parse_bearing_units():
 def test_markers_name_the_comb_that_found_the_fault():
     from synthetic_records import gated_ball_impacts
 
-    from diagnostics.cli import _markers
-    from diagnostics.diagnose import diagnose
-    from diagnostics.frequencies import BearingGeometry, bearing_frequencies
+    from diagnostics import BearingGeometry, bearing_frequencies, diagnose
+    from diagnostics.app.analyze import _markers
 
     geometry = BearingGeometry(9, 7.94e-3, 39.04e-3)
     freqs = bearing_frequencies(geometry, 29.95)

@@ -16,7 +16,7 @@ import numpy as np
 import pytest
 
 from diagnostics import BearingGeometry, bearing_frequencies
-from diagnostics.compare import (
+from diagnostics.app.compare import (
     Record,
     analyse,
     compare_figures,

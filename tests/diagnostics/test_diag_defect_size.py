@@ -8,12 +8,13 @@ import math
 import numpy as np
 import pytest
 
-from diagnostics.defect_size import (
+from diagnostics import (
+    BearingGeometry,
+    bearing_frequencies,
     contact_speed,
     estimate_defect_size,
     spall_length_from_travel,
 )
-from diagnostics.frequencies import BearingGeometry, bearing_frequencies
 
 GEOMETRY = BearingGeometry(9, 7.94e-3, 39.04e-3)
 SHAFT_HZ = 29.95

@@ -10,8 +10,7 @@ import pytest
 from scipy import signal
 from synthetic_records import FREQS, GEOMETRY, SHAFT_HZ, fault_signal, gated_ball_impacts
 
-from diagnostics.diagnose import diagnose, normalised_envelope_spectrum, prewhiten
-from diagnostics.frequencies import bearing_frequencies
+from diagnostics import bearing_frequencies, diagnose, normalised_envelope_spectrum, prewhiten
 
 # file, sampling rate, expected verdict (README of the data folder)
 CWRU = {
@@ -164,7 +163,7 @@ def test_bad_arguments_raise():
 
 @pytest.fixture(scope="module")
 def cwru_records(cwru_dir):
-    from diagnostics.io import read_signal
+    from diagnostics import read_signal
 
     records = {}
     for key, (name, fs, _) in CWRU.items():
@@ -256,7 +255,7 @@ def test_discrete_random_separation_band_is_an_option():
 def test_even_pair_counts_where_an_odd_harmonic_is_masked():
     """Harmonics 2 and 4 mark the comb's own period only where the 1st or 3rd could not be
     seen (masked as a shaft harmonic)."""
-    from diagnostics.diagnose import _best_pair
+    from diagnostics._evidence import _best_pair
 
     p = np.array([0.5, 1e-9, 0.5, 1e-8, 0.5])
     seen = np.ones(5, dtype=bool)
@@ -341,7 +340,7 @@ def test_cwru_fan_end_channel_beside_a_damaged_drive_end(cwru_dir):
     drive-end outer-race series (BPFO 3.585 orders) and its shaft sidebands put lines in
     the fan-end ball comb's windows, whose pair test passes; the series itself is found at
     a rate of no fan-end fault, far stronger, and the record is called healthy."""
-    from diagnostics.datasets import CWRU_FAN_END, read_labelled_record
+    from diagnostics.app.datasets import CWRU_FAN_END, read_labelled_record
 
     rec = read_labelled_record(cwru_dir / CWRU["135"][0], end="fan")
     d = diagnose(rec.x, rec.fs, CWRU_FAN_END, rec.shaft_hz)

@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from diagnostics.envelope import envelope, envelope_spectrum
+from diagnostics import envelope, envelope_spectrum
 
 FS = 20_000.0
 T = np.arange(int(FS)) / FS  # 1 s: every frequency below is a whole number of cycles

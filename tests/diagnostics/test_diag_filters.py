@@ -5,8 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from diagnostics.envelope import envelope_spectrum
-from diagnostics.filters import bandpass_filter, lowpass_filter, notch_filter
+from diagnostics import bandpass_filter, envelope_spectrum, lowpass_filter, notch_filter
 
 FS = 10_000.0
 T = np.arange(int(2 * FS)) / FS  # 2 s

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import pytest
 
-from diagnostics.frequencies import BearingGeometry, bearing_frequencies
+from diagnostics import BearingGeometry, bearing_frequencies
 
 INCH = 25.4e-3
 # SKF 6205-2RS JEM: 9 balls, 0.3126 in balls on a 1.537 in pitch diameter, contact angle 0.

@@ -10,8 +10,7 @@ import pytest
 
 from benchmarks.diagnostics.aperiodic_impulse_scenarios import main as scenarios_main
 from benchmarks.diagnostics.aperiodic_impulse_scenarios import scenario, weak_scenario
-from diagnostics import diagnose
-from diagnostics.kurtosis import Infogram, infogram, kurtogram, kurtogram_and_infogram
+from diagnostics import Infogram, diagnose, infogram, kurtogram, kurtogram_and_infogram
 
 FS = 12000.0
 DATA = Path(__file__).resolve().parents[3] / "shared" / "data"
@@ -126,7 +125,7 @@ def test_scenario_script_prints_both_selectors(capsys):
 def test_scenario_script_weak_tables_count_each_fault_type():
     """The weak tables: one fault per draw, so the per-type row of each size and selector
     counts one record in all, and names it where the first table does."""
-    import aperiodic_impulse_scenarios
+    from benchmarks.diagnostics import aperiodic_impulse_scenarios
 
     lines = aperiodic_impulse_scenarios.weak_table(1)
     fault = weak_scenario(0, 1.0)[0]
@@ -158,7 +157,7 @@ def test_weak_faults_are_named_more_often_from_the_infograms_band():
 
 def test_band_selector_is_checked():
     x = np.random.default_rng(0).standard_normal(24000)
-    from diagnostics.datasets import CWRU_DRIVE_END
+    from diagnostics.app.datasets import CWRU_DRIVE_END
 
     with pytest.raises(ValueError, match="band_selector"):
         diagnose(x, FS, CWRU_DRIVE_END, 29.95, band_selector="spectral")
@@ -172,7 +171,7 @@ def test_band_selector_is_checked():
 def test_best_band_apart_from_another():
     """kurtogram_band(..., apart_from=band): the best of the bands that do not overlap the
     one given, under the same width and low-edge limits (below the best of all)."""
-    from diagnostics.diagnose import kurtogram_band
+    from diagnostics import kurtogram_band
 
     rng = np.random.default_rng(4)
     n = 2**15
@@ -216,7 +215,7 @@ def test_records_with_random_impacts_script(tmp_path, capsys):
 
     from benchmarks.diagnostics.records_with_random_impacts import main as records_main
     from diagnostics import bearing_frequencies
-    from diagnostics.datasets import CWRU_DRIVE_END
+    from diagnostics.app.datasets import CWRU_DRIVE_END
 
     folder = tmp_path / "cwru"
     folder.mkdir()

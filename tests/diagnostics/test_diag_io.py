@@ -7,7 +7,7 @@ import pandas as pd
 import pytest
 from scipy.io import savemat, wavfile
 
-from diagnostics.io import read_signal
+from diagnostics import read_signal
 
 FS = 12_000.0
 

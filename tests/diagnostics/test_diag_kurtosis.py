@@ -7,13 +7,8 @@ import pytest
 from scipy import signal
 
 from benchmarks.diagnostics.kurtogram_reference import reference_kurtogram
-from diagnostics.kurtosis import (
-    analysis_filters,
-    kurtogram,
-    kurtogram_levels,
-    sk_threshold,
-    spectral_kurtosis,
-)
+from diagnostics import kurtogram, sk_threshold, spectral_kurtosis
+from diagnostics._kurtosis import analysis_filters, kurtogram_levels
 
 FS = 20_000.0
 RESONANCE = 3500.0

@@ -10,11 +10,14 @@ import numpy as np
 import pytest
 from matplotlib.figure import Figure
 
-from diagnostics import plots
-from diagnostics.envelope import envelope_spectrum
-from diagnostics.frequencies import BearingGeometry, bearing_frequencies
-from diagnostics.kurtosis import kurtogram
-from diagnostics.spectral import third_octave
+from diagnostics import (
+    BearingGeometry,
+    bearing_frequencies,
+    envelope_spectrum,
+    kurtogram,
+    plots,
+    third_octave,
+)
 
 FS = 12000.0
 FREQS = bearing_frequencies(BearingGeometry(9, 7.94e-3, 39.04e-3), 29.95)

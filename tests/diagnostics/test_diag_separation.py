@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 from scipy import stats
 
-from diagnostics.separation import discrete_random_separation
+from diagnostics import discrete_random_separation
 
 FS = 12000.0
 

@@ -9,10 +9,10 @@ import pytest
 from synthetic_records import modulated_noise
 
 from benchmarks.diagnostics.aperiodic_impulse_scenarios import weak_scenario
-from diagnostics import diagnose
-from diagnostics.datasets import CWRU_DRIVE_END, CWRU_FAN_END
-from diagnostics.diagnose import FamilyScore, _off_shaft, _sideband_p, _unique_evidence
-from diagnostics.frequencies import bearing_frequencies
+from diagnostics import FamilyScore, bearing_frequencies, diagnose
+from diagnostics._evidence import _off_shaft, _sideband_p
+from diagnostics._verdict import _unique_evidence
+from diagnostics.app.datasets import CWRU_DRIVE_END, CWRU_FAN_END
 
 FS = 12000.0
 SHAFT_HZ = 29.95

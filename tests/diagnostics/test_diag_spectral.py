@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from diagnostics.spectral import psd, stft, third_octave, third_octave_centres
+from diagnostics import psd, stft, third_octave, third_octave_centres
 
 FS = 48_000.0
 

@@ -10,15 +10,17 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from diagnostics import BearingGeometry, bearing_frequencies, diagnose
-from diagnostics.benchmark import find_records
-from diagnostics.datasets import read_labelled_record
-from diagnostics.speed import (
+from diagnostics import (
+    BearingGeometry,
+    bearing_frequencies,
+    diagnose,
     estimate_speed,
     order_track,
     shaft_angle,
     speed_from_tacho,
 )
+from diagnostics.app.benchmark import find_records
+from diagnostics.app.datasets import read_labelled_record
 
 GEOMETRY = BearingGeometry(9, 7.94e-3, 39.04e-3)
 ORDERS = bearing_frequencies(GEOMETRY, 1.0)  # fault frequencies as orders
@@ -160,7 +162,7 @@ def test_estimate_speed_on_measured_records():
 def test_speed_ridge_changes_by_at_most_max_change_of_its_own_rate():
     """The ridge's dynamic programme against a direct search over every predecessor within
     +-max_change * dt of each candidate's own rate (random scores, random grids)."""
-    from diagnostics.speed import _best_path
+    from diagnostics._speed_estimate import _best_path
 
     rng = np.random.default_rng(0)
     for _ in range(20):
@@ -261,7 +263,8 @@ def test_order_domain_agrees_with_time_on_measured_records():
     empty band above was whitened)."""
     if not DATA.is_dir():
         pytest.skip(f"development data not available at {DATA}")
-    from diagnostics.diagnose import _TAPER_S, _diagnose_orders
+    from diagnostics._diagnose import _diagnose_orders
+    from diagnostics._prewhiten import _TAPER_S
 
     options = dict(slip=0.02, n_harmonics=5, alpha=1e-4, min_modulation=0.05, nlevel=7,
                    use_kurtogram=True, use_drs=False)  # fmt: skip
@@ -407,7 +410,7 @@ def varying_files(tmp_path_factory):
 
 
 def _analyze(record, *extra):
-    from diagnostics.cli import main
+    from diagnostics.app.cli import main
 
     return main(["analyze", str(record), "--fs", str(FS), "--channel", "accel",
                  "--bearing", "n=9,d=7.94mm,D=39.04mm", *extra])  # fmt: skip

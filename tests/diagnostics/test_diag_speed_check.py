@@ -13,10 +13,9 @@ from synthetic_records import FREQS, GEOMETRY, SHAFT_HZ, fault_signal
 
 from benchmarks.diagnostics.other_source_scenarios import scenario
 from benchmarks.diagnostics.speed_error_scan import scaled
-from diagnostics import diagnose
-from diagnostics.benchmark import find_records, run_benchmark
-from diagnostics.cli import main
-from diagnostics.speed import shaft_lines, speed_check
+from diagnostics import diagnose, shaft_lines, speed_check
+from diagnostics.app.benchmark import find_records, run_benchmark
+from diagnostics.app.cli import main
 
 ROOT = Path(__file__).resolve().parents[2]
 
@@ -215,7 +214,7 @@ def test_dev_records_shaft_lines(dev_records):
     """The CWRU files' RPM stands within 0.2 % of their shaft lines, MFPT's nominal 25 Hz
     0.6-1 % above them, and each record is analysed at its lines' rate; record 174 (stored
     as X173) shows no shaft series at all, on either channel."""
-    from diagnostics.datasets import read_labelled_record
+    from diagnostics.app.datasets import read_labelled_record
 
     for path in dev_records:
         rec = read_labelled_record(path)
@@ -240,7 +239,7 @@ def test_speed_error_scan_prints_its_table(tmp_path, capsys):
 
     from benchmarks.diagnostics.speed_error_scan import main as scan
     from diagnostics import bearing_frequencies
-    from diagnostics.datasets import CWRU_DRIVE_END
+    from diagnostics.app.datasets import CWRU_DRIVE_END
 
     folder = tmp_path / "cwru"
     folder.mkdir()

@@ -38,6 +38,15 @@ def test_importing_every_diagnostics_module_leaves_taichi_unloaded():
     imported = set(result.stdout.strip().split(","))
     expected = {
         f"diagnostics.{m}"
-        for m in ("_checks", "filters", "envelope", "spectral", "kurtosis", "io", "frequencies")
-    } | {"bearing_io.files", "bearing_io.progress"}
+        for m in ("_checks", "_filters", "_envelope", "_spectral", "_kurtosis", "_io",
+                  "_frequencies", "_diagnose", "plots", "app.cli", "app.compare")
+    } | {"bearing_io.files", "bearing_io.progress"}  # fmt: skip
     assert expected <= imported
+    # ... and every module file of the two packages, subpackages too, was among them
+    files = {
+        ".".join(path.relative_to(ROOT).with_suffix("").parts).removesuffix(".__init__")
+        for pkg in ("diagnostics", "bearing_io")
+        for path in (ROOT / pkg).rglob("*.py")
+        if not path.name.startswith("__")
+    }
+    assert files <= imported, files - imported

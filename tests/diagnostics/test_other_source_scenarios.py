@@ -7,7 +7,7 @@ import pytest
 
 from benchmarks.diagnostics.other_source_scenarios import KINDS, main, other_rate, scenario
 from diagnostics import bearing_frequencies
-from diagnostics.datasets import CWRU_DRIVE_END, CWRU_FAN_END
+from diagnostics.app.datasets import CWRU_DRIVE_END, CWRU_FAN_END
 
 
 def test_scenarios_are_reproducible_and_cycle_the_kinds():

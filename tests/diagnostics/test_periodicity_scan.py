@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 from benchmarks.diagnostics.periodicity_scan import scan_signal, series_scores, tree_bands
-from diagnostics.frequencies import BearingGeometry, bearing_frequencies
+from diagnostics import BearingGeometry, bearing_frequencies
 
 GEOMETRY = BearingGeometry(9, 7.94e-3, 39.04e-3)  # CWRU drive end
 SHAFT_HZ = 29.95

@@ -1,98 +1,31 @@
-"""Command line of ``diagnostics``: ``python -m diagnostics analyze|compare ...``.
+"""``python -m diagnostics analyze``: one record read, its speed found, diagnosed, drawn and
+summarised (``summary.json``, the figures, the lines printed).
 
-Each subcommand is a pair ``add_<name>_arguments(parser)`` / ``run_<name>(args) -> int``
-registered in ``COMMANDS``: ``analyze`` (one record); ``compare`` only points to
-``python -m taichi_bearing compare``, which reads a simulated run folder and calls
-:mod:`diagnostics.compare`. Bad input
-is reported as one line on stderr with exit status 2, never a traceback.
+Importing this module loads numpy only: scipy and matplotlib load when the command runs, so
+that ``--help`` answers at once (their imports below sit inside the functions for that).
 """
 
 from __future__ import annotations
 
 import argparse
 import math
-import re
-import sys
 from pathlib import Path
 from typing import TYPE_CHECKING
 
 import numpy as np
 
-from bearing_io.files import atomic_path, output_folder, write_json
-from bearing_io.progress import LOG_INTERVAL_S, RecordProgress
-from diagnostics.frequencies import BearingGeometry, bearing_frequencies
+from bearing_io.files import output_folder, write_json
+from diagnostics import BearingGeometry, bearing_frequencies
+from diagnostics.app._figure_files import save_figure as _save
+from diagnostics.app._options import UsageError, check_fs_option, check_notches, parse_bearing
 
 if TYPE_CHECKING:  # scipy loads when a command runs, not for --help
-    from diagnostics.diagnose import Diagnosis
+    from diagnostics import Diagnosis
 
-__all__ = ["main", "build_parser", "parse_bearing", "UsageError"]
+__all__ = ["add_analyze_arguments", "check_record_fits", "run_analyze", "shaft_rate"]
 
-_LENGTH_UNITS = {"m": 1.0, "cm": 1e-2, "mm": 1e-3, "um": 1e-6, "in": 25.4e-3}
 # Seconds of the record drawn in the time trace and the spectrogram.
 _TRACE_S = 0.25
-# Highest sampling rate taken for a vibration record (acoustic-emission systems reach tens
-# of MHz); a larger --fs is a typo or a unit slip.
-MAX_FS_HZ = 1e8
-
-
-class UsageError(Exception):
-    """Bad command-line input: reported as one line, exit status 2."""
-
-
-class _Parser(argparse.ArgumentParser):
-    # argparse prints the whole usage block on an error; one line is enough.
-    def error(self, message: str):  # noqa: D401 - argparse API
-        raise UsageError(f"{self.prog}: {message}")
-
-
-def _length(text: str, key: str) -> float:
-    match = re.fullmatch(r"\s*([-+0-9.eE]+)\s*([a-z]+)\s*", text)
-    if not match or match.group(2) not in _LENGTH_UNITS:
-        raise UsageError(
-            f"--bearing {key}={text!r}: give a length with a unit "
-            f"({', '.join(_LENGTH_UNITS)}), e.g. {key}=7.94mm"
-        )
-    try:
-        value = float(match.group(1))
-    except ValueError:
-        raise UsageError(f"--bearing {key}={text!r}: not a number") from None
-    return value * _LENGTH_UNITS[match.group(2)]
-
-
-def parse_bearing(text: str) -> BearingGeometry:
-    """Parse ``n=9,d=7.94mm,D=39.04mm[,angle=0]`` into a BearingGeometry (metres, degrees).
-
-    Raises
-    ------
-    UsageError
-        On a malformed item, an unknown or missing key, or an invalid geometry.
-    """
-    items: dict[str, str] = {}
-    for part in filter(None, (p.strip() for p in text.split(","))):
-        key, sep, value = part.partition("=")
-        if not sep or not value.strip():
-            raise UsageError(f"--bearing: expected key=value, got {part!r}")
-        key = key.strip()
-        if key not in ("n", "d", "D", "angle"):
-            raise UsageError(f"--bearing: unknown key {key!r} (use n, d, D, angle)")
-        items[key] = value.strip()
-    missing = [k for k in ("n", "d", "D") if k not in items]
-    if missing:
-        raise UsageError(
-            f"--bearing: missing {', '.join(missing)} (e.g. n=9,d=7.94mm,D=39.04mm,angle=0)"
-        )
-    try:
-        n = int(items["n"])
-    except ValueError:
-        raise UsageError(f"--bearing n={items['n']!r}: not an integer") from None
-    try:
-        angle = float(items.get("angle", "0"))
-    except ValueError:
-        raise UsageError(f"--bearing angle={items['angle']!r}: not a number (degrees)") from None
-    try:
-        return BearingGeometry(n, _length(items["d"], "d"), _length(items["D"], "D"), angle)
-    except ValueError as exc:
-        raise UsageError(f"--bearing: {exc}") from None
 
 
 def add_analyze_arguments(parser: argparse.ArgumentParser) -> None:
@@ -174,19 +107,9 @@ def _kinematic(d: Diagnosis, family: str) -> float:
     return {"outer": f.bpfo, "inner": f.bpfi, "ball": 2.0 * f.bsf}[family]
 
 
-def save_figure(fig, path: Path) -> str:
-    """Save a matplotlib Figure as PNG atomically; returns the file name."""
-    with atomic_path(path) as tmp:
-        fig.savefig(tmp, format="png", dpi=110)
-    return path.name
-
-
-_save = save_figure
-
-
 def _figures(x, fs: float, d: Diagnosis, notch: list[float], raw, out: Path) -> list[str]:
     from diagnostics import plots  # matplotlib only when figures are drawn
-    from diagnostics.compare import impact_times
+    from diagnostics.app.compare import impact_times  # scipy: when the command runs, not for --help
 
     freqs = d.frequencies
     n_show = min(x.size, int(_TRACE_S * fs))
@@ -229,7 +152,7 @@ def _figures(x, fs: float, d: Diagnosis, notch: list[float], raw, out: Path) -> 
 
 
 def _speed_figure(rates: np.ndarray, fs: float, source: str, out: Path) -> str:
-    from diagnostics import plots
+    from diagnostics import plots  # matplotlib only when figures are drawn
 
     return _save(plots.plot_speed(rates, fs, title=f"Shaft speed ({source})"), out / "speed.png")
 
@@ -261,23 +184,10 @@ def _family_summary(d: Diagnosis) -> dict:
     return out
 
 
-def check_fs_option(fs: float | None) -> None:
-    """Refuse an ``--fs`` that is no sampling rate (not positive, or beyond ``MAX_FS_HZ``)."""
-    if fs is None:
-        return
-    if not (math.isfinite(fs) and fs > 0):
-        raise UsageError(f"--fs must be a positive frequency in Hz, got {fs:g}")
-    if fs > MAX_FS_HZ:
-        raise UsageError(
-            f"--fs {fs:g} Hz is beyond any vibration record's sampling rate "
-            f"(at most {MAX_FS_HZ:g} Hz); give the rate in Hz, e.g. --fs 12000"
-        )
-
-
 def check_record_fits(sig, geometry: BearingGeometry, shaft_hz: float, fs_given: bool) -> None:
     """One line naming ``--fs`` (or the file) when the record cannot be diagnosed: a dead
     channel, a rate too low for the fault frequencies, or a record too short."""
-    from diagnostics.diagnose import record_requirements
+    from diagnostics import record_requirements  # scipy: when the command runs, not for --help
 
     source = "--fs" if fs_given else f"the file's rate of {sig.fs:g} Hz"
     where = f"{sig.meta.get('path', '')}:{sig.name}"
@@ -300,16 +210,6 @@ def check_record_fits(sig, geometry: BearingGeometry, shaft_hz: float, fs_given:
         )
 
 
-def check_notches(notches: list[float], fs: float) -> None:
-    """Each ``--notch`` frequency strictly between 0 and fs/2."""
-    for f0 in notches:
-        if not (math.isfinite(f0) and 0.0 < f0 < fs / 2.0):
-            raise UsageError(
-                f"--notch {f0:g} Hz is outside 0..{fs / 2.0:g} Hz (fs/2, the Nyquist "
-                f"frequency at {fs:g} Hz)"
-            )
-
-
 # An estimated speed is used when at least this share of its frames found the ridge clearly.
 _MIN_SPEED_CONFIDENCE = 0.5
 
@@ -318,8 +218,11 @@ def shaft_rate(args: argparse.Namespace, sig):
     """Shaft rate (Hz) for ``analyze``: one value (``--rpm`` or the file's), or one per sample
     (``--tacho`` channel, ``--speed-profile`` table, or estimated within ``--rpm-range``).
     Returns ``(rate, source, confidence)``, the confidence None unless estimated."""
-    from diagnostics.io import read_speed_profile
-    from diagnostics.speed import estimate_speed, speed_from_tacho
+    from diagnostics import (  # scipy: when the command runs, not for --help
+        estimate_speed,
+        read_speed_profile,
+        speed_from_tacho,
+    )
 
     given = [o for o, v in (("--rpm", args.rpm), ("--tacho", args.tacho),
                             ("--speed-profile", args.speed_profile),
@@ -409,9 +312,11 @@ def _speed_check_lines(d: Diagnosis, unit: str) -> list[str]:
 
 
 def run_analyze(args: argparse.Namespace) -> int:
-    from diagnostics.diagnose import diagnose
-    from diagnostics.filters import notch_filter
-    from diagnostics.io import read_signal
+    from diagnostics import (  # scipy: when the command runs, not for --help
+        diagnose,
+        notch_filter,
+        read_signal,
+    )
 
     geometry = parse_bearing(args.bearing)
     check_fs_option(args.fs)
@@ -566,168 +471,3 @@ def _print_summary(sig, rpm: float, d: Diagnosis, out: Path, n_files: int) -> No
         f"wrote {n_files} files to {out}",
     ]
     print("\n".join(lines))
-
-
-# The comparison of a simulated run folder moved to the simulator's command line; the
-# comparison itself (arrays in, figures out) stays in diagnostics.compare.
-COMPARE_MOVED = (
-    "compare moved to the simulator: python -m taichi_bearing compare RUN_DIR MEASURED_FILE "
-    "[--fs HZ] [--rpm RPM] [--bearing ...] [--out DIR]"
-)
-
-
-def add_compare_arguments(parser: argparse.ArgumentParser) -> None:
-    parser.add_argument("args", nargs=argparse.REMAINDER, help=argparse.SUPPRESS)
-
-
-def run_compare(args: argparse.Namespace) -> int:
-    raise UsageError(COMPARE_MOVED)
-
-
-def add_benchmark_arguments(parser: argparse.ArgumentParser) -> None:
-    parser.add_argument(
-        "folders",
-        metavar="DIR",
-        nargs="+",
-        type=Path,
-        help="folder(s) of CWRU or MFPT .mat records, named as the public sets name them",
-    )
-    parser.add_argument(
-        "--records", action="store_true", help="also print one line per record as it is done"
-    )
-    parser.add_argument("--csv", type=Path, help="write every record's verdict to this CSV file")
-    parser.add_argument(
-        "--other-bearing",
-        action="store_true",
-        help="false-alarm check: read each CWRU record's other accelerometer with the other "
-        "end's (healthy) bearing; every right verdict is none",
-    )
-    parser.add_argument(
-        "--quiet", action="store_true", help="no progress bar or progress lines on stderr"
-    )
-    parser.add_argument(
-        "--progress-interval",
-        type=float,
-        default=LOG_INTERVAL_S,
-        metavar="S",
-        help="seconds between progress lines when stderr is not a terminal (a log, a pipe; "
-        f"default {LOG_INTERVAL_S:g}); on a terminal a bar",
-    )
-
-
-def run_benchmark(args: argparse.Namespace) -> int:
-    from diagnostics import benchmark
-
-    paths = [p for folder in args.folders for p in benchmark.find_records(folder)]
-    if not paths:
-        raise UsageError(
-            f"{', '.join(map(str, args.folders))}: no CWRU or MFPT record found (.mat files "
-            "named e.g. 12k_Drive_End_IR007_0_105.mat, normal_0_97.mat, "
-            "InnerRaceFault_vload_1.mat)"
-        )
-
-    if args.csv is not None:  # before the records are read, not after
-        if not str(args.csv).strip() or args.csv.is_dir():
-            raise UsageError(f"--csv {str(args.csv)!r}: give a file name, e.g. verdicts.csv")
-        output_folder(args.csv.parent, "--csv")
-    if not math.isfinite(args.progress_interval) or args.progress_interval < 0:
-        raise UsageError(f"--progress-interval {args.progress_interval:g}: give seconds, 0 or more")
-    # With --records each record's line is the progress.
-    progress = RecordProgress(
-        len(benchmark.labelled_records(paths, args.other_bearing)),
-        log_every_s=args.progress_interval,
-        enabled=not (args.quiet or args.records),
-    )
-
-    def show(r: benchmark.BenchmarkResult) -> None:
-        progress.update(r.path.name)
-        if args.records:
-            mark = "ok" if r.correct else "MISS"
-            print(
-                f"{r.path.name}: {r.expected} -> {r.verdict} ({r.confidence:.2f}) {mark} {r.detail}"
-            )
-
-    try:
-        results = benchmark.run_benchmark(paths, progress=show, other_bearing=args.other_bearing)
-    finally:
-        progress.close()
-    if not results:
-        raise UsageError(
-            f"{', '.join(map(str, args.folders))}: no CWRU record for --other-bearing (MFPT "
-            "records have one bearing)"
-        )
-    if args.records:
-        print()
-    speeds = benchmark.speed_summary(results)
-    if speeds:
-        print(speeds + "\n")
-    print(benchmark.summary_table(results))
-    if args.csv is not None:
-        import pandas as pd
-
-        rows = [
-            {
-                "record": str(r.path),
-                "set": r.group,
-                "expected": r.expected,
-                "verdict": r.verdict,
-                "confidence": r.confidence,
-                "correct": r.correct,
-                "detail": r.detail,
-                "speed_change": r.speed_change,
-                "shaft_lines": r.shaft_lines,
-            }
-            for r in results
-        ]
-        with atomic_path(args.csv) as tmp:
-            pd.DataFrame(rows).to_csv(tmp, index=False)
-        print(f"wrote {args.csv}")
-    return 0
-
-
-COMMANDS = {
-    "analyze": (
-        "diagnose one vibration record: figures, summary.json and a verdict",
-        add_analyze_arguments,
-        run_analyze,
-    ),
-    "compare": (
-        "moved: use python -m taichi_bearing compare RUN_DIR MEASURED_FILE ...",
-        add_compare_arguments,
-        run_compare,
-    ),
-    "benchmark": (
-        "diagnose every CWRU or MFPT record in a folder and tabulate the verdicts",
-        add_benchmark_arguments,
-        run_benchmark,
-    ),
-}
-
-
-def build_parser() -> argparse.ArgumentParser:
-    parser = _Parser(
-        prog="python -m diagnostics",
-        description="Bearing vibration diagnostics on measured or simulated records.",
-    )
-    sub = parser.add_subparsers(dest="command", metavar="COMMAND", parser_class=_Parser)
-    for name, (help_text, add_arguments, _) in COMMANDS.items():
-        add_arguments(sub.add_parser(name, help=help_text, description=help_text))
-    return parser
-
-
-def main(argv: list[str] | None = None) -> int:
-    """Run the command line; returns the exit status."""
-    parser = build_parser()
-    try:
-        args = parser.parse_args(argv)
-        if args.command is None:
-            parser.print_help(sys.stderr)
-            return 2
-        return int(COMMANDS[args.command][2](args) or 0)
-    except (UsageError, ValueError, OSError) as exc:
-        message = " ".join(str(exc).split())  # one line, whatever the message held
-        print(f"error: {message}", file=sys.stderr)
-        return 2
-    except KeyboardInterrupt:
-        print("interrupted", file=sys.stderr)
-        return 130

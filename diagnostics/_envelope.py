@@ -11,7 +11,7 @@ import numpy as np
 from scipy import signal
 
 from diagnostics._checks import check_signals
-from diagnostics.filters import bandpass_filter
+from diagnostics._filters import bandpass_filter
 
 
 def _band_limited(x, fs: float, band, axis: int) -> np.ndarray:

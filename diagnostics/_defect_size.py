@@ -42,12 +42,12 @@ from dataclasses import dataclass, field
 import numpy as np
 from scipy import signal
 
-from diagnostics._checks import check_band, check_positive, check_signal
-from diagnostics.diagnose import check_bearing_inputs, kurtogram_band
-from diagnostics.envelope import envelope
-from diagnostics.filters import lowpass_filter
-from diagnostics.frequencies import BearingGeometry, bearing_frequencies
-from diagnostics.kurtosis import kurtogram
+from diagnostics._bands import kurtogram_band
+from diagnostics._checks import check_band, check_bearing_inputs, check_positive, check_signal
+from diagnostics._envelope import envelope
+from diagnostics._filters import lowpass_filter
+from diagnostics._frequencies import BearingGeometry, bearing_frequencies
+from diagnostics._kurtosis import kurtogram
 
 __all__ = [
     "DefectSize",

@@ -32,8 +32,7 @@ from pathlib import Path
 
 import numpy as np
 
-from diagnostics.frequencies import BearingGeometry
-from diagnostics.io import read_signal
+from diagnostics import BearingGeometry, read_signal
 
 __all__ = [
     "CWRU_DRIVE_END",

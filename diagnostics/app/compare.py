@@ -31,12 +31,23 @@ from pathlib import Path
 import numpy as np
 from scipy import signal as sp_signal
 
-from diagnostics.diagnose import kurtogram_band
-from diagnostics.envelope import envelope, envelope_spectrum
-from diagnostics.frequencies import BearingGeometry, FaultFrequencies, bearing_frequencies
-from diagnostics.kurtosis import kurtogram
-from diagnostics.resolution import choose_nlevel, choose_nperseg, third_octave_f_min
-from diagnostics.spectral import stft, third_octave
+from bearing_io.files import write_json
+from diagnostics import (
+    BearingGeometry,
+    FaultFrequencies,
+    bearing_frequencies,
+    choose_nlevel,
+    choose_nperseg,
+    envelope,
+    envelope_spectrum,
+    kurtogram,
+    kurtogram_band,
+    read_signal,
+    stft,
+    third_octave,
+    third_octave_f_min,
+)
+from diagnostics.app._figure_files import save_figure
 
 __all__ = [
     "Record",
@@ -119,8 +130,6 @@ def measured_record(
 ) -> Record:
     """A measured record read with :func:`diagnostics.read_signal`; speed from ``rpm`` or
     the file."""
-    from diagnostics.io import read_signal
-
     sig = read_signal(path, channel=channel, fs=fs)
     rpm = rpm if rpm is not None else sig.meta.get("rpm")
     if rpm is None:
@@ -236,9 +245,9 @@ def _common_periods(records: list[Record]) -> float:
 
 def compare_figures(records: list[Record], analyses: list[Analysis], out: Path) -> list[str]:
     """Draw the four comparison figures into ``out``; returns the file names."""
+    # matplotlib only when figures are drawn
     from matplotlib.figure import Figure
 
-    from diagnostics.cli import save_figure
     from diagnostics.plots import fault_markers
 
     n = len(records)
@@ -414,8 +423,6 @@ def compare_records(records: list[Record], out: str | os.PathLike) -> dict:
     dict
         :func:`compare_summary` with the figure file names under ``"figures"``.
     """
-    from bearing_io.files import write_json
-
     out = Path(out)
     analyses = [analyse(r) for r in records]
     figures = compare_figures(records, analyses, out)

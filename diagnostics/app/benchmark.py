@@ -1,6 +1,6 @@
 """Run :func:`diagnostics.diagnose` over a folder of public bearing records and tabulate.
 
-Each ``.mat`` file whose name :func:`diagnostics.datasets.label_from_name` understands (CWRU
+Each ``.mat`` file whose name :func:`diagnostics.app.datasets.label_from_name` understands (CWRU
 or MFPT) is read with its own channel, rate, speed and bearing, diagnosed, and compared with
 the fault its name gives. The table counts, per set, end and fault type, how many records
 got the right verdict and what the others were called: the measure of Smith and Randall's
@@ -17,8 +17,8 @@ from pathlib import Path
 
 import numpy as np
 
-from diagnostics.datasets import RecordLabel, label_from_name, read_labelled_record
-from diagnostics.diagnose import diagnose
+from diagnostics import diagnose
+from diagnostics.app.datasets import RecordLabel, label_from_name, read_labelled_record
 
 __all__ = [
     "BenchmarkResult",
