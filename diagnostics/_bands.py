@@ -41,6 +41,11 @@ def kurtogram_band(
     -------
     ((f_lo, f_hi), kurtosis) or None
         None when no band qualifies.
+
+    References
+    ----------
+    Antoni, J. (2007). Fast computation of the kurtogram for the detection of transient
+    faults. *Mechanical Systems and Signal Processing* 21(1), 108-124.
     """
     fs = float(kg.fs)
     levels = np.asarray(kg.levels, dtype=float)

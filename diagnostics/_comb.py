@@ -237,6 +237,11 @@ def normalised_envelope_spectrum(
     -------
     f, z, m : numpy.ndarray
         Frequencies (Hz), normalised power and modulation depth.
+
+    References
+    ----------
+    Randall, R. B. and Antoni, J. (2011). Rolling element bearing diagnostics: a tutorial.
+    *Mechanical Systems and Signal Processing* 25(2), 485-520.
     """
     sq = envelope(y, fs, band=band) ** 2
     mean_sq = float(sq.mean())

@@ -1,37 +1,9 @@
-"""Size of a line spall from the timing of the entry and exit events of each roller passage.
-
-A roller crossing a localised spall gives two events (Sawalhi and Randall 2011): on entry the
-load it carries is released, a *de-stressing* that appears as a low-frequency step; on exit it
-strikes the far edge and is loaded again, a *re-stressing* impact that rings the structure's
-high-frequency resonances. Their time separation, times the speed of the contact point along
-the race, is the distance the roller travels from one event to the other; the roller's finite
-size turns that travel into the spall length.
-
-Geometric model (a flat rectangular notch of length L and depth h in the race; the race
-curvature is neglected over L; roller radius r):
-
-* entry event: the contact point reaches the entry edge, i.e. the roller centre is over the
-  entry edge (travel coordinate s = 0). The roller then pivots on that edge and drops.
-* If the notch is deep enough, the roller never touches the floor: it strikes the exit edge
-  when its centre is equidistant (r) from both edges, at s = L / 2, before the centre is over
-  the exit edge. Otherwise (h below the sagitta) it lands on the floor when its centre is at
-  s = a = sqrt(h (2 r - h)), rolls on the floor, and strikes the exit edge at s = L - a.
-* exit event: that strike. Hence the travel between the events is
-  ``s = L - min(a, L / 2)``, and ``L = 2 s`` when ``s <= a`` (or the depth is not given: deep
-  notch), ``L = s + a`` when ``s > a``.
-
-Kinematics: the roller centre turns with the cage. On the stationary outer race the contact
-point moves at the cage angular speed times the outer raceway radius, (D + d cos alpha) / 2;
-on the rotating inner race it moves, relative to the race, at (shaft - cage) angular speed
-times the inner raceway radius, (D - d cos alpha) / 2. Passages repeat at BPFO (BPFI).
-
-Signal processing, per passage: the exit impact is found on the Hilbert envelope of a high
-band (by default the fast kurtogram's best band): the envelope peaks once per passage, and
-the exit is the steepest point of the rising edge before the peak (the onset, unbiased by the
-zero-phase filter). The entry is the steepest point of the low-passed signal (cut-off below
-the high band) in a window before the exit; the window stops one cut-off period before the
-exit so that the exit's own low-frequency content is not mistaken for the entry. Nothing here
-is specific to a test stand: measured and simulated accelerations are treated alike.
+"""Size of a line spall from the timing of the entry and exit events of each roller passage:
+:func:`estimate_defect_size` and its result :class:`DefectSize`, the speed of the contact
+point along a race (:func:`contact_speed`) and the spall length from the roller's travel
+between the two events (:func:`spall_length_from_travel`). The events, the geometric model
+and how each event is found are described in docs/theory/diagnostics.md (*Spall size from
+event timing*); measured and simulated accelerations are treated alike.
 """
 
 from __future__ import annotations
@@ -116,6 +88,11 @@ def contact_speed(geometry: BearingGeometry, shaft_hz: float, race: str = "outer
 
     Outer race (stationary): cage angular speed times the outer raceway radius. Inner race
     (turning with the shaft): (shaft - cage) angular speed times the inner raceway radius.
+
+    References
+    ----------
+    Harris, T. A. and Kotzalas, M. N. (2007). *Essential Concepts of Bearing Technology*
+    (Rolling Bearing Analysis, 5th ed., vol. 1). CRC Press, Boca Raton.
 
     Examples
     --------
@@ -316,6 +293,22 @@ def estimate_defect_size(
     ------
     ValueError
         On invalid input, or when no complete passage is found.
+
+    Notes
+    -----
+    Per passage, the exit is found on the Hilbert envelope of the exit band: the envelope
+    peaks once per passage, and the exit is the steepest point of the rising edge before
+    the peak (the onset, which the zero-phase filter does not shift). The entry is the
+    steepest point of the low-passed signal in a window before the exit that stops one
+    period of the cut-off short of it, so that the exit's own low-frequency content is not
+    taken for the entry. The time between them, times :func:`contact_speed`, is the travel
+    that :func:`spall_length_from_travel` turns into a length.
+
+    References
+    ----------
+    Sawalhi, N. and Randall, R. B. (2011). Vibration response of spalled rolling element
+    bearings: observations, simulations and signal processing techniques to track the spall
+    size. *Mechanical Systems and Signal Processing* 25(3), 846-870.
     """
     fs, shaft_hz = check_bearing_inputs(geometry, fs, shaft_hz)
     if race not in RACES:

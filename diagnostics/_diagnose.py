@@ -229,7 +229,8 @@ def diagnose(
         candidate bands.
     min_modulation : float
         Smallest modulation depth of the squared envelope, at a fault harmonic, that counts
-        as a fault (effect-size floor; see the module notes).
+        as a fault (an effect-size floor: significance alone grows with the record
+        length; docs/theory/diagnostics.md, *Automatic diagnosis*).
     nlevel : int
         Depth of the fast kurtogram (reduced for a record too short for it).
     use_kurtogram : bool
@@ -274,6 +275,35 @@ def diagnose(
     ValueError
         On an invalid signal, sampling rate, speed or speed profile, option, or a record
         too short.
+
+    References
+    ----------
+    Randall, R. B. and Antoni, J. (2011). Rolling element bearing diagnostics: a tutorial.
+    *Mechanical Systems and Signal Processing* 25(2), 485-520.
+
+    Smith, W. A. and Randall, R. B. (2015). Rolling element bearing diagnostics using the
+    Case Western Reserve University data: a benchmark study. *Mechanical Systems and Signal
+    Processing* 64-65, 100-131.
+
+    Antoni, J. (2007). Fast computation of the kurtogram for the detection of transient
+    faults. *Mechanical Systems and Signal Processing* 21(1), 108-124.
+
+    Antoni, J. (2016). The infogram: entropic evidence of the signature of repetitive
+    transients. *Mechanical Systems and Signal Processing* 74, 73-94.
+
+    Randall, R. B. and Sawalhi, N. (2011). A new method for separating discrete components
+    from a signal. *Sound and Vibration* 45(5), 6-9.
+
+    Borghesani, P., Pennacchi, P., Randall, R. B., Sawalhi, N. and Ricci, R. (2013).
+    Application of cepstrum pre-whitening for the diagnosis of bearing faults under variable
+    speed conditions. *Mechanical Systems and Signal Processing* 36(2), 370-384.
+
+    Antoni, J. and Randall, R. B. (2004). Unsupervised noise cancellation for vibration
+    signals: part II, a novel frequency-domain algorithm. *Mechanical Systems and Signal
+    Processing* 18(1), 103-117.
+
+    Fisher, R. A. (1932). *Statistical Methods for Research Workers*, 4th ed. Oliver and
+    Boyd, Edinburgh.
 
     Examples
     --------

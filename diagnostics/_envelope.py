@@ -1,8 +1,6 @@
-"""Hilbert envelope and (squared) envelope spectrum.
-
-The squared envelope spectrum of a band that holds the fault's resonance shows the fault's
-repetition frequency and its harmonics (Randall and Antoni 2011); squaring rather than taking
-the modulus avoids the spurious harmonics the modulus introduces.
+"""Envelope analysis: the Hilbert envelope of a (band-passed) record, :func:`envelope`, and
+the amplitude spectrum of its square or of itself, :func:`envelope_spectrum`. Why the
+squared envelope is the one to use is in docs/theory/diagnostics.md.
 """
 
 from __future__ import annotations
@@ -50,6 +48,11 @@ def envelope(x, fs: float, band=None, axis: int = -1) -> np.ndarray:
     ValueError
         On an invalid signal, ``fs``, band or axis.
 
+    References
+    ----------
+    Randall, R. B. and Antoni, J. (2011). Rolling element bearing diagnostics: a tutorial.
+    *Mechanical Systems and Signal Processing* 25(2), 485-520.
+
     Examples
     --------
     >>> fs = 8000.0
@@ -93,6 +96,11 @@ def envelope_spectrum(x, fs: float, band=None, squared: bool = True, axis: int =
     ------
     ValueError
         On an invalid signal, ``fs``, band or axis.
+
+    References
+    ----------
+    Randall, R. B. and Antoni, J. (2011). Rolling element bearing diagnostics: a tutorial.
+    *Mechanical Systems and Signal Processing* 25(2), 485-520.
 
     Examples
     --------

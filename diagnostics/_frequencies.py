@@ -1,13 +1,6 @@
-"""Bearing geometry and characteristic fault frequencies.
-
-Kinematics of a rolling element bearing with a stationary outer ring and a rotating inner
-ring, assuming pure rolling (no slip). With d the rolling element diameter, D the pitch
-diameter, alpha the contact angle and fr the shaft frequency::
-
-    FTF  = fr / 2 * (1 - d/D cos alpha)                 cage (fundamental train)
-    BPFO = n fr / 2 * (1 - d/D cos alpha)               ball pass, outer race
-    BPFI = n fr / 2 * (1 + d/D cos alpha)               ball pass, inner race
-    BSF  = D / (2 d) * fr * (1 - (d/D cos alpha)^2)     rolling element spin
+"""Bearing geometry and its kinematic fault frequencies: :class:`BearingGeometry`,
+:class:`FaultFrequencies` and :func:`bearing_frequencies` (a stationary outer ring, pure
+rolling; the formulas are in the function's notes).
 """
 
 from __future__ import annotations
@@ -118,7 +111,7 @@ class FaultFrequencies:
 
 
 def bearing_frequencies(geometry: BearingGeometry, shaft_hz: float) -> FaultFrequencies:
-    """Fault frequencies of a bearing turning at ``shaft_hz``.
+    r"""Fault frequencies of a bearing turning at ``shaft_hz``.
 
     Parameters
     ----------
@@ -131,6 +124,28 @@ def bearing_frequencies(geometry: BearingGeometry, shaft_hz: float) -> FaultFreq
     -------
     FaultFrequencies
         FTF (cage), BPFO, BPFI and BSF (roller spin) in Hz.
+
+    Notes
+    -----
+    With ``n`` rolling elements of diameter ``d`` on a pitch diameter ``D``, contact angle
+    :math:`\alpha` and shaft rate :math:`f_r`, in pure rolling with the outer ring fixed:
+
+    .. math::
+
+        \mathrm{FTF} = \frac{f_r}{2}\Bigl(1 - \frac{d}{D}\cos\alpha\Bigr), \quad
+        \mathrm{BPFO} = n\,\mathrm{FTF}, \quad
+        \mathrm{BPFI} = \frac{n f_r}{2}\Bigl(1 + \frac{d}{D}\cos\alpha\Bigr), \quad
+        \mathrm{BSF} = \frac{D f_r}{2 d}\Bigl(1 - \Bigl(\frac{d}{D}\cos\alpha\Bigr)^2\Bigr).
+
+    A real bearing slips by 1-2 %, so measured rates sit a little off these.
+
+    References
+    ----------
+    Harris, T. A. and Kotzalas, M. N. (2007). *Essential Concepts of Bearing Technology*
+    (Rolling Bearing Analysis, 5th ed., vol. 1). CRC Press, Boca Raton.
+
+    Randall, R. B. and Antoni, J. (2011). Rolling element bearing diagnostics: a tutorial.
+    *Mechanical Systems and Signal Processing* 25(2), 485-520.
 
     Examples
     --------

@@ -58,6 +58,15 @@ def prewhiten(x, fs: float, taper_s: float = _TAPER_S, axis: int = -1) -> np.nda
     ValueError
         On an invalid or constant signal, ``fs`` or axis.
 
+    References
+    ----------
+    Randall, R. B. and Sawalhi, N. (2011). A new method for separating discrete components
+    from a signal. *Sound and Vibration* 45(5), 6-9.
+
+    Borghesani, P., Pennacchi, P., Randall, R. B., Sawalhi, N. and Ricci, R. (2013).
+    Application of cepstrum pre-whitening for the diagnosis of bearing faults under variable
+    speed conditions. *Mechanical Systems and Signal Processing* 36(2), 370-384.
+
     Examples
     --------
     A tone and its harmonic over noise: prewhitened, every frequency has the same level.

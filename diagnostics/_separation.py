@@ -1,15 +1,7 @@
-"""Discrete/random separation (DRS): the periodic part of a record apart from the rest.
-
-Gear meshes, shaft harmonics and electrical tones repeat exactly, so the record and a copy of
-itself delayed by more than the memory of its random part are coherent at their frequencies;
-the random part (and a bearing's impacts, whose spacing jitters with slip) is not. The
-transfer function from the delayed copy to the record, estimated over many blocks::
-
-    H(f) = sum_k X_k(f) conj(D_k(f)) / sum_k |D_k(f)|^2
-
-is close to 1 at the discrete frequencies and to 0 elsewhere. Filtering the record by H keeps
-the discrete part; the residual is the random part (Antoni and Randall 2004; used before
-envelope analysis in Randall and Antoni's 2011 tutorial and Smith and Randall's CWRU study).
+"""Discrete/random separation: :func:`discrete_random_separation` splits a record into its
+discrete part (what repeats exactly: gear meshes, shaft harmonics, electrical tones) and
+the rest, with the result :class:`Separation`. The estimator is described in
+docs/theory/diagnostics.md.
 """
 
 from __future__ import annotations
@@ -50,7 +42,7 @@ class Separation:
 def discrete_random_separation(
     x, fs: float, nfft: int | None = None, delay: int | None = None, axis: int = -1
 ) -> Separation:
-    """Split a record into its discrete-frequency part and its random part (DRS).
+    r"""Split a record into its discrete-frequency part and its random part (DRS).
 
     Parameters
     ----------
@@ -80,6 +72,24 @@ def discrete_random_separation(
     ValueError
         On an invalid record, rate, block, delay or axis, or a record shorter than eight
         blocks.
+
+    Notes
+    -----
+    What repeats exactly is coherent between the record and a copy of it delayed by more
+    than the memory of its random part; the random part (and a bearing's impacts, whose
+    spacing jitters with slip) is not. The transfer function from the delayed copy ``D`` to
+    the record ``X``, averaged over the blocks ``k``,
+
+    .. math:: H(f) = \frac{\sum_k X_k(f)\, \overline{D_k(f)}}{\sum_k |D_k(f)|^2},
+
+    is close to 1 at the discrete frequencies and to 0 elsewhere: filtering the record by
+    ``H`` gives the discrete part, and the residual is the random part.
+
+    References
+    ----------
+    Antoni, J. and Randall, R. B. (2004). Unsupervised noise cancellation for vibration
+    signals: part II, a novel frequency-domain algorithm. *Mechanical Systems and Signal
+    Processing* 18(1), 103-117.
 
     Examples
     --------

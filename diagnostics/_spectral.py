@@ -1,4 +1,6 @@
-"""Spectral estimates: short-time Fourier transform, Welch PSD and one-third-octave bands."""
+"""Spectral estimates: the short-time Fourier transform (:func:`stft`), Welch's PSD
+(:func:`psd`) and one-third-octave band levels (:func:`third_octave`,
+:func:`third_octave_centres`)."""
 
 from __future__ import annotations
 
@@ -120,6 +122,12 @@ def psd(x, fs: float, nperseg: int = 4096, axis: int = -1):
     ValueError
         On an invalid signal, ``fs`` or axis, or a segment longer than the signal.
 
+    References
+    ----------
+    Welch, P. D. (1967). The use of fast Fourier transform for the estimation of power
+    spectra: a method based on time averaging over short, modified periodograms. *IEEE
+    Transactions on Audio and Electroacoustics* 15(2), 70-73.
+
     Examples
     --------
     >>> x = np.random.default_rng(0).standard_normal((2, 48000)) * [[1.0], [2.0]]
@@ -145,6 +153,11 @@ def third_octave_centres(f_min: float, f_max: float) -> np.ndarray:
     -------
     numpy.ndarray
         Centres ``1000 * 10**(k/10)`` in increasing order.
+
+    References
+    ----------
+    IEC 61260-1:2014. *Electroacoustics - Octave-band and fractional-octave-band filters -
+    Part 1: Specifications*. International Electrotechnical Commission, Geneva.
     """
     f_min = check_positive(f_min, "f_min")
     f_max = check_positive(f_max, "f_max")
@@ -201,6 +214,11 @@ def third_octave(
         On an invalid signal or ``fs``, a range that holds no complete band, or a record
         too short to resolve the lowest band (its bins are farther apart than the band is
         wide): raise ``f_min`` or give a longer record.
+
+    References
+    ----------
+    IEC 61260-1:2014. *Electroacoustics - Octave-band and fractional-octave-band filters -
+    Part 1: Specifications*. International Electrotechnical Commission, Geneva.
 
     Examples
     --------

@@ -125,6 +125,11 @@ def speed_from_tacho(
         edge crosses, fewer than three edges, or an interval between pulses far from those
         around it (a pulse missing or doubled).
 
+    References
+    ----------
+    Fyfe, K. R. and Munck, E. D. S. (1997). Analysis of computed order tracking. *Mechanical
+    Systems and Signal Processing* 11(2), 187-205.
+
     Examples
     --------
     >>> fs = 1000.0
@@ -257,6 +262,15 @@ def order_track(x, fs: float, shaft_hz, samples_per_rev: float, *, axis: int = -
     ValueError
         On an invalid record, rate, speed profile or angular rate, or a record shorter than
         two revolutions.
+
+    References
+    ----------
+    Fyfe, K. R. and Munck, E. D. S. (1997). Analysis of computed order tracking. *Mechanical
+    Systems and Signal Processing* 11(2), 187-205.
+
+    Borghesani, P., Pennacchi, P., Randall, R. B., Sawalhi, N. and Ricci, R. (2013).
+    Application of cepstrum pre-whitening for the diagnosis of bearing faults under variable
+    speed conditions. *Mechanical Systems and Signal Processing* 36(2), 370-384.
 
     Examples
     --------

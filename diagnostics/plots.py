@@ -140,6 +140,11 @@ def plot_spectral_kurtosis(
 
     Short windows resolve impulses in time but not in frequency, long windows the opposite;
     drawing several shows which band is impulsive at which resolution.
+
+    References
+    ----------
+    Antoni, J. (2006). The spectral kurtosis: a useful tool for characterising
+    non-stationary signals. *Mechanical Systems and Signal Processing* 20(2), 282-307.
     """
     fig, ax = _axes(ax)
     for nw in nws:
@@ -167,6 +172,14 @@ def plot_kurtogram(
     best band wide enough for two fault harmonics and above the combs' range), is outlined
     dashed; ``second_band`` (the infogram's best band apart from that one, which
     ``diagnose`` demodulates too) dotted.
+
+    References
+    ----------
+    Antoni, J. (2007). Fast computation of the kurtogram for the detection of transient
+    faults. *Mechanical Systems and Signal Processing* 21(1), 108-124.
+
+    Antoni, J. (2016). The infogram: entropic evidence of the signature of repetitive
+    transients. *Mechanical Systems and Signal Processing* 74, 73-94.
     """
     fig, ax = _axes(ax, figsize=(8.0, 5.0))
     K = np.asarray(kg.K, dtype=float)

@@ -4,7 +4,7 @@ another fault named, over the backgrounds of a real test rig.
 Synthetic scenarios start from white noise and shaft harmonics; a measured channel also
 holds the rig's own lines (electrical, the other bearing's fault, structural) at strengths
 no scenario guesses. Here the backgrounds are measured: in every CWRU record below the
-folders given (``diagnostics.benchmark.find_records``), each channel that holds a healthy
+folders given (``diagnostics.app.benchmark.find_records``), each channel that holds a healthy
 bearing, read with that bearing's geometry and the record's speed: the fan-end channel of
 a drive-end fault record (left out where it copies the drive-end channel), the drive-end
 channel of a fan-end fault record, and both channels of a baseline record. A 48 kHz channel

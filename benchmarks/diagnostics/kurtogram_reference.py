@@ -1,6 +1,6 @@
 """Straightforward port of Antoni's fast kurtogram (Fast_Kurtogram.m, revision 12-2014).
 
-This is the baseline the fast implementation in ``diagnostics.kurtosis`` is checked and timed
+This is the baseline the fast implementation in ``diagnostics._kurtosis`` is checked and timed
 against. It follows the reference arithmetic step by step: every band is filtered at the full
 input rate with ``scipy.signal.lfilter`` (MATLAB ``filter``) and only then decimated, the
 tree is walked recursively, and the map and best band are built as the reference builds them.

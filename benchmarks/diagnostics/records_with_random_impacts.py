@@ -2,7 +2,7 @@
 fault is still named when the band is chosen by the infogram (the default) and by the
 kurtogram, side by side on the same records.
 
-Every CWRU or MFPT record below the folders given (``diagnostics.benchmark.find_records``;
+Every CWRU or MFPT record below the folders given (``diagnostics.app.benchmark.find_records``;
 the channel, speed and bearing its name implies) is diagnosed ``--draws`` times, each
 time with impacts at Poisson times added (2-20 a second, each 5-15 times the record's
 standard deviation with a log-normal scatter, ringing a resonance at 0.1-0.4 of the

@@ -29,6 +29,7 @@ _TRACE_S = 0.25
 
 
 def add_analyze_arguments(parser: argparse.ArgumentParser) -> None:
+    """The options of ``analyze`` on ``parser``."""
     parser.add_argument("file", metavar="FILE", help="vibration record (csv, txt, wav, mat, ...)")
     parser.add_argument("--fs", type=float, help="sampling rate in Hz (if the file has none)")
     parser.add_argument("--rpm", type=float, help="shaft speed in rpm (default: from the file)")
@@ -312,6 +313,14 @@ def _speed_check_lines(d: Diagnosis, unit: str) -> list[str]:
 
 
 def run_analyze(args: argparse.Namespace) -> int:
+    """Run ``analyze`` on parsed options: read the record, find its speed, diagnose it, write
+    ``summary.json`` and the figures into ``--out``, print the verdict; returns 0.
+
+    Raises
+    ------
+    UsageError
+        On options that do not fit the record (one line for the user, exit status 2).
+    """
     from diagnostics import (  # scipy: when the command runs, not for --help
         diagnose,
         notch_filter,

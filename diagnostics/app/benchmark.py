@@ -140,6 +140,12 @@ def run_benchmark(
     -------
     list of BenchmarkResult
         One per record; a record that cannot be read or diagnosed has verdict ``"error"``.
+
+    References
+    ----------
+    Smith, W. A. and Randall, R. B. (2015). Rolling element bearing diagnostics using the
+    Case Western Reserve University data: a benchmark study. *Mechanical Systems and Signal
+    Processing* 64-65, 100-131.
     """
     results = []
     for path, label in labelled_records(paths, other_bearing):

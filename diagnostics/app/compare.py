@@ -166,7 +166,22 @@ def impact_times(x, fs: float, band: tuple[float, float], rate_hz: float) -> np.
 
 
 def analyse(rec: Record) -> Analysis:
-    """The comparison pipeline on one record (see the module notes)."""
+    """The comparison pipeline on one record (the four steps of this module's notes).
+
+    Returns
+    -------
+    Analysis
+        The demodulation band and its kurtosis, the normalised squared envelope spectrum and
+        its BPFO harmonics, the one-third-octave levels and the event times.
+
+    References
+    ----------
+    Antoni, J. (2007). Fast computation of the kurtogram for the detection of transient
+    faults. *Mechanical Systems and Signal Processing* 21(1), 108-124.
+
+    Randall, R. B. and Antoni, J. (2011). Rolling element bearing diagnostics: a tutorial.
+    *Mechanical Systems and Signal Processing* 25(2), 485-520.
+    """
     x = np.asarray(rec.x, dtype=float) - np.mean(rec.x)
     fs, bpfo = rec.fs, rec.bpfo_hz
     notes = []

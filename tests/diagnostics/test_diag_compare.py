@@ -1,4 +1,4 @@
-"""diagnostics.compare: records (arrays, sampling rates, event times) through one pipeline,
+"""diagnostics.app.compare: records (arrays, sampling rates, event times) through one pipeline,
 figures side by side; ``python -m diagnostics compare`` points to the simulator's command.
 
 The comparison of a simulated run folder is tested in test_compare_cli.py."""
