@@ -18,8 +18,9 @@ from matplotlib.figure import Figure
 from diagnostics._checks import check_signal
 from diagnostics._filters import notch_filter
 from diagnostics._frequencies import FaultFrequencies
-from diagnostics._kurtosis import Kurtogram, spectral_kurtosis
+from diagnostics._kurtosis import Kurtogram
 from diagnostics._spectral import psd, stft, third_octave
+from diagnostics._spectral_kurtosis import spectral_kurtosis
 
 __all__ = [
     "plot_spectrogram",
