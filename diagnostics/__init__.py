@@ -1,8 +1,12 @@
 """diagnostics: bearing vibration diagnostics on measured or simulated signals.
 
 Plain functions over numpy arrays with the sampling rate ``fs`` in Hz, in the manner of
-``scipy.signal``; figures live apart in :mod:`diagnostics.plots`. numpy/scipy only (pandas
-for tables, matplotlib for plots); this package never imports taichi.
+``scipy.signal``: every public name is here, in this one namespace, and the modules that
+define them are private (``diagnostics._kurtosis``, ``diagnostics._diagnose``, ...).
+Figures live apart in the public module :mod:`diagnostics.plots` (matplotlib), and the
+command line, the benchmark over public data sets and the comparison of records in
+:mod:`diagnostics.app`; the signal code never imports either. numpy/scipy only; this
+package never imports taichi.
 
 Examples
 --------
@@ -34,64 +38,54 @@ resonance per BPFO period, jittered by slip, in noise.
 At a varying speed, give the shaft rate per sample (from a tachometer,
 :func:`speed_from_tacho`, or estimated from the vibration, :func:`estimate_speed`); the
 diagnosis is then made in the order domain (``d.domain == "order"``): see
-:func:`diagnostics.diagnose.diagnose`.
+:func:`diagnose`.
 """
 
 import importlib
-import sys
-import types
 
-# Public name -> the module that defines it. The modules load on first use (PEP 562), so
-# ``python -m diagnostics --help`` does not wait a second for scipy.signal.
+# Public name -> the private module that defines it. The modules load on first use (PEP 562
+# __getattr__ below), for start-up time: ``python -m diagnostics --help`` does not wait a
+# second for scipy.signal.
 _EXPORTS = {
-    "defect_size": ("DefectSize", "contact_speed", "estimate_defect_size",
-                    "spall_length_from_travel"),
-    "diagnose": ("Diagnosis", "FamilyScore", "diagnose", "kurtogram_band", "prewhiten"),
-    "envelope": ("envelope", "envelope_spectrum"),
-    "filters": ("bandpass_filter", "lowpass_filter", "notch_filter"),
-    "frequencies": ("BearingGeometry", "FaultFrequencies", "bearing_frequencies"),
-    "io": ("Signal", "read_signal", "read_speed_profile"),
-    "kurtosis": ("Infogram", "Kurtogram", "infogram", "kurtogram", "sk_threshold",
-                 "spectral_kurtosis"),
-    "resolution": ("choose_nlevel", "choose_nperseg", "choose_sk_windows",
-                   "third_octave_f_min"),
-    "separation": ("Separation", "discrete_random_separation"),
-    "spectral": ("psd", "stft", "third_octave"),
-    "speed": ("OrderTrack", "ShaftLines", "SpeedEstimate", "estimate_speed", "order_track",
-              "shaft_angle", "shaft_lines", "speed_check", "speed_from_tacho"),
+    "_defect_size": ("DefectSize", "contact_speed", "estimate_defect_size",
+                     "spall_length_from_travel"),
+    "_diagnose": ("Diagnosis", "diagnose", "record_requirements"),
+    "_comb": ("BandScore", "FamilyScore", "normalised_envelope_spectrum"),
+    "_prewhiten": ("prewhiten",),
+    "_bands": ("kurtogram_band",),
+    "_envelope": ("envelope", "envelope_spectrum"),
+    "_filters": ("bandpass_filter", "lowpass_filter", "notch_filter"),
+    "_frequencies": ("BearingGeometry", "FaultFrequencies", "bearing_frequencies"),
+    "_io": ("Signal", "read_signal", "read_speed_profile"),
+    "_kurtosis": ("Infogram", "Kurtogram", "infogram", "kurtogram", "kurtogram_and_infogram"),
+    "_spectral_kurtosis": ("SpectralKurtosis", "sk_threshold", "spectral_kurtosis"),
+    "_resolution": ("choose_nlevel", "choose_nperseg", "choose_sk_windows",
+                    "third_octave_f_min"),
+    "_separation": ("Separation", "discrete_random_separation"),
+    "_spectral": ("psd", "stft", "third_octave", "third_octave_centres"),
+    "_speed": ("OrderTrack", "order_track", "shaft_angle", "speed_from_tacho"),
+    "_shaft_lines": ("ShaftLines", "shaft_lines", "speed_check"),
+    "_speed_estimate": ("SpeedEstimate", "estimate_speed"),
 }  # fmt: skip
 _MODULE_OF = {name: module for module, names in _EXPORTS.items() for name in names}
+# The public module of figures, reached as an attribute too (``dg.plots``); not in
+# ``__all__``, so that ``from diagnostics import *`` does not load matplotlib. (The
+# application, ``diagnostics.app``, is imported by name: this package never loads it.)
+_SUBMODULES = ("plots",)
 
 __all__ = sorted(_MODULE_OF)
 
 
 def __getattr__(name: str):
     module = _MODULE_OF.get(name)
-    if module is None:  # a submodule, as `import diagnostics` made them all attributes
-        try:
-            return importlib.import_module(f"diagnostics.{name}")
-        except ModuleNotFoundError as exc:
-            if exc.name != f"diagnostics.{name}":
-                raise
-        raise AttributeError(f"module 'diagnostics' has no attribute {name!r}")
-    value = getattr(importlib.import_module(f"diagnostics.{module}"), name)
-    globals()[name] = value  # later look-ups skip this function
-    return value
+    if module is not None:
+        value = getattr(importlib.import_module(f"diagnostics.{module}"), name)
+        globals()[name] = value  # later look-ups skip this function
+        return value
+    if name in _SUBMODULES:
+        return importlib.import_module(f"diagnostics.{name}")
+    raise AttributeError(f"module 'diagnostics' has no attribute {name!r}")
 
 
 def __dir__() -> list[str]:
-    return sorted(set(globals()) | set(__all__))
-
-
-class _Package(types.ModuleType):
-    """This package, keeping its public functions ``diagnose`` and ``envelope`` over the
-    submodules of the same names: importing a submodule binds it on the package, and
-    once bound a name never reaches ``__getattr__``."""
-
-    def __setattr__(self, name: str, value) -> None:
-        if isinstance(value, types.ModuleType) and _MODULE_OF.get(name) == name:
-            value = getattr(value, name)  # the function, as an eager import gave
-        super().__setattr__(name, value)
-
-
-sys.modules[__name__].__class__ = _Package
+    return sorted(set(globals()) | set(__all__) | set(_SUBMODULES))

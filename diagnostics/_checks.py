@@ -11,6 +11,8 @@ from numbers import Real
 
 import numpy as np
 
+from diagnostics._frequencies import BearingGeometry
+
 
 def check_fs(fs: float, name: str = "fs") -> float:
     """Return ``fs`` as a float after checking it is a finite positive number (Hz).
@@ -210,3 +212,18 @@ def check_positive(value, name: str, unit: str = "") -> float:
     if not math.isfinite(out) or out <= 0.0:
         raise ValueError(f"{name} must be finite and positive{unit}, got {value!r}")
     return out
+
+
+def check_bearing_inputs(geometry, fs: float, shaft_hz: float) -> tuple[float, float]:
+    """Check the arguments every bearing analysis takes; return ``(fs, shaft_hz)`` as floats.
+
+    Raises
+    ------
+    ValueError
+        If ``geometry`` is not a BearingGeometry or a rate is not finite and positive.
+    """
+    if not isinstance(geometry, BearingGeometry):
+        raise ValueError(f"geometry must be a BearingGeometry, got {type(geometry).__name__}")
+    fs = check_positive(fs, "fs", unit=" in Hz")
+    shaft_hz = check_positive(shaft_hz, "shaft_hz", unit=" in Hz")
+    return fs, shaft_hz

@@ -16,10 +16,11 @@ from matplotlib.axes import Axes
 from matplotlib.figure import Figure
 
 from diagnostics._checks import check_signal
-from diagnostics.filters import notch_filter
-from diagnostics.frequencies import FaultFrequencies
-from diagnostics.kurtosis import Kurtogram, spectral_kurtosis
-from diagnostics.spectral import psd, stft, third_octave
+from diagnostics._filters import notch_filter
+from diagnostics._frequencies import FaultFrequencies
+from diagnostics._kurtosis import Kurtogram
+from diagnostics._spectral import psd, stft, third_octave
+from diagnostics._spectral_kurtosis import spectral_kurtosis
 
 __all__ = [
     "plot_spectrogram",
@@ -94,7 +95,7 @@ def plot_time_trace(x, fs: float, events=None, ax: Axes | None = None, unit: str
 
 def plot_speed(shaft_hz, fs: float, ax: Axes | None = None, title: str = "Shaft speed") -> Figure:
     """Shaft speed (rpm) over a record, one rate per sample (a tachometer's, a profile's or
-    :func:`diagnostics.speed.estimate_speed`'s).
+    :func:`diagnostics.estimate_speed`'s).
 
     Parameters
     ----------
@@ -140,6 +141,11 @@ def plot_spectral_kurtosis(
 
     Short windows resolve impulses in time but not in frequency, long windows the opposite;
     drawing several shows which band is impulsive at which resolution.
+
+    References
+    ----------
+    Antoni, J. (2006). The spectral kurtosis: a useful tool for characterising
+    non-stationary signals. *Mechanical Systems and Signal Processing* 20(2), 282-307.
     """
     fig, ax = _axes(ax)
     for nw in nws:
@@ -162,11 +168,19 @@ def plot_kurtogram(
     """Fast kurtogram map as Antoni draws it: frequency on x, level on y (0 at the top).
 
     Each row is one decomposition level; the best band is outlined. An
-    :class:`~diagnostics.kurtosis.Infogram` is drawn the same way, its negentropy in colour.
+    :class:`~diagnostics.Infogram` is drawn the same way, its negentropy in colour.
     ``used_band`` (Hz), a band of the map demodulated elsewhere (``diagnose`` takes the
     best band wide enough for two fault harmonics and above the combs' range), is outlined
     dashed; ``second_band`` (the infogram's best band apart from that one, which
     ``diagnose`` demodulates too) dotted.
+
+    References
+    ----------
+    Antoni, J. (2007). Fast computation of the kurtogram for the detection of transient
+    faults. *Mechanical Systems and Signal Processing* 21(1), 108-124.
+
+    Antoni, J. (2016). The infogram: entropic evidence of the signature of repetitive
+    transients. *Mechanical Systems and Signal Processing* 74, 73-94.
     """
     fig, ax = _axes(ax, figsize=(8.0, 5.0))
     K = np.asarray(kg.K, dtype=float)
@@ -223,7 +237,7 @@ def plot_envelope_spectrum(
     Parameters
     ----------
     f, amplitude : array_like
-        Spectrum, e.g. from :func:`diagnostics.envelope.envelope_spectrum`.
+        Spectrum, e.g. from :func:`diagnostics.envelope_spectrum`.
     markers : FaultFrequencies or mapping, optional
         Frequencies to mark with their harmonics; a FaultFrequencies gives BPFO, BPFI and
         2xBSF.

@@ -4,9 +4,9 @@ Compare a simulated run with a measured record
 
 What ``python -m taichi_bearing compare RUN_DIR MEASURED ...`` does, step by step: the
 simulated sensor acceleration of a run folder and a measured vibration record are analysed
-the same way by :func:`diagnostics.compare.compare_records` (the fast kurtogram's band,
-the squared envelope spectrum in orders of each record's own BPFO, the one-third-octave
-levels) and drawn side by side. The two bearings differ in size and speed, so the
+the same way by :func:`diagnostics.app.compare.compare_records` (the fast kurtogram's
+band, the squared envelope spectrum in orders of each record's own BPFO, the
+one-third-octave levels) and drawn side by side. The two bearings differ in size and speed, so the
 comparison is of shapes, in orders and in BPFO periods, not of levels.
 
 The simulated side is the coarse validation case (1 mm surface elements, a 6 mm by
@@ -28,7 +28,7 @@ import matplotlib.pyplot as plt
 import numpy as np
 
 import diagnostics as dg
-from diagnostics.compare import Record, compare_records, measured_record, summary_lines
+from diagnostics.app.compare import Record, compare_records, measured_record, summary_lines
 from taichi_bearing.case import load_case
 from taichi_bearing.commands.compare import simulated_record
 from taichi_bearing.pipeline import run_case

@@ -2,7 +2,7 @@
 
 Kinematics assume pure rolling with a stationary outer ring and the inner ring turning
 counter-clockwise at the shaft speed; the fault frequencies come from
-:func:`diagnostics.frequencies.bearing_frequencies` (one copy of the formulas).
+:func:`diagnostics.bearing_frequencies` (one copy of the formulas).
 
 Contact (Johnson, *Contact Mechanics*, 1985, section 4.3; Harris & Kotzalas, *Rolling
 Bearing Analysis*, 5th ed., 2007):

@@ -4,7 +4,7 @@
 The run folder is read here (:func:`taichi_bearing.output.run_folder.load_run`: the analysed
 sensor acceleration, its sampling rate, shaft speed, BPFO and re-stressing times; a run
 that did not finish gives what it recorded); the measured records are read and everything
-is analysed and drawn by :func:`diagnostics.compare.compare_records`, which takes arrays
+is analysed and drawn by :func:`diagnostics.app.compare.compare_records`, which takes arrays
 only. Writes the four comparison figures and ``summary.json`` into ``--out`` (default
 ``RUN_DIR/compare``).
 """
@@ -70,7 +70,7 @@ def _run_case(run_dir: Path):
 
 
 def simulated_record(run_dir: Path, sensor: str | None = None):
-    """The run folder and its sensor acceleration as a :class:`diagnostics.compare.Record`,
+    """The run folder and its sensor acceleration as a :class:`diagnostics.app.compare.Record`,
     with the run's re-stressing times (from its first history row) as the events.
 
     Shaft speed and BPFO come from ``summary.json`` or, for a run killed before its checks
@@ -78,7 +78,7 @@ def simulated_record(run_dir: Path, sensor: str | None = None):
     """
     import numpy as np
 
-    from diagnostics.compare import Record
+    from diagnostics.app.compare import Record
     from taichi_bearing.analytic.bearing import fault_frequencies
     from taichi_bearing.output.run_folder import acceleration_signal, load_run
 
@@ -111,8 +111,8 @@ def simulated_record(run_dir: Path, sensor: str | None = None):
 
 
 def main(args: argparse.Namespace) -> int:
-    from diagnostics.cli import UsageError, parse_bearing
-    from diagnostics.compare import compare_records, measured_record, summary_lines
+    from diagnostics.app.cli import UsageError, parse_bearing
+    from diagnostics.app.compare import compare_records, measured_record, summary_lines
     from taichi_bearing.output.layout import COMPARE_DIR
 
     _positive(args.fs, "--fs", "frequency in Hz")

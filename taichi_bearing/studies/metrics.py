@@ -50,7 +50,7 @@ def envelope_level_at(x, fs: float, f0: float) -> float:
 
     The squared Hilbert envelope, mean removed, projected on ``exp(-2 pi i f0 t)``:
     ``2 |sum e_k exp(-2 pi i f0 k / fs)| / n``. When the record holds a whole number of
-    ``f0`` periods this is the :func:`diagnostics.envelope.envelope_spectrum` bin at
+    ``f0`` periods this is the :func:`diagnostics.envelope_spectrum` bin at
     ``f0``; otherwise it is that spectrum zero-padded and read at ``f0`` exactly (records
     shorter than ``1/f0`` do not resolve the line: the level then measures the envelope's
     slow fluctuation).

@@ -1,7 +1,7 @@
 """``--help`` answers at once: building the command line's parsers imports neither Taichi
 nor scipy (nor pandas or matplotlib), in a fresh interpreter. Timing is not asserted
-(shared machines); what would make it slow is. ``import diagnostics`` loads its modules
-on first use and still gives its functions, not the submodules of the same names."""
+(shared machines); what would make it slow is. ``import diagnostics`` loads its private
+modules on first use, and each public name is the function or class, never a module."""
 
 from __future__ import annotations
 
@@ -69,7 +69,7 @@ def test_help_of_the_command_line_imports_no_heavy_module(argv):
 
 
 def test_diagnostics_help_imports_no_heavy_module():
-    code = "import diagnostics.cli as c\nc.build_parser()"
+    code = "import diagnostics.app.cli as c\nc.build_parser()"
     assert _loaded_after(code) == []
 
 
@@ -78,12 +78,17 @@ def test_diagnostics_loads_its_functions_on_first_use():
 import types
 import diagnostics as dg
 assert "scipy" not in sys.modules
-import diagnostics.diagnose, diagnostics.envelope  # binds the submodules on the package
+import diagnostics._diagnose, diagnostics._envelope  # binds the private modules on the package
 assert isinstance(dg.diagnose, types.FunctionType), dg.diagnose
 assert isinstance(dg.envelope, types.FunctionType), dg.envelope
-from diagnostics import BearingGeometry, diagnose, spectral
-assert diagnose is dg.diagnose and BearingGeometry.__module__ == "diagnostics.frequencies"
-assert spectral.__name__ == "diagnostics.spectral"
+from diagnostics import BearingGeometry, diagnose, plots
+assert diagnose is dg.diagnose and BearingGeometry.__module__ == "diagnostics._frequencies"
+assert plots.__name__ == "diagnostics.plots"
 assert set(dg.__all__) <= set(dir(dg))
+# Every public name is a function or class of a private module, none a module itself.
+for name in dg.__all__:
+    value = getattr(dg, name)
+    assert not isinstance(value, types.ModuleType), name
+    assert value.__module__.startswith("diagnostics._"), (name, value.__module__)
 """
     assert "scipy" in _loaded_after(code)  # loaded by use, not at import

@@ -1,6 +1,7 @@
 """The docstring examples run, on small data, with their printed output checked (none is
-skipped): ``doctest`` on every module of ``diagnostics`` and on the simulator's modules
-that hold examples (the Python API's three calls on the coarse case; pure functions:
+skipped): ``doctest`` on every module of ``diagnostics`` (its private modules and its
+``app`` subpackage too) and on the simulator's modules that hold examples (the Python
+API's three calls on the coarse case; pure functions:
 kinematics, Hertz, the load distribution, studies)."""
 
 from __future__ import annotations
@@ -29,7 +30,7 @@ SIMULATOR = [
 ]
 MODULES = (
     ["diagnostics"]
-    + sorted(f"diagnostics.{m.name}" for m in pkgutil.iter_modules(diagnostics.__path__))
+    + sorted(m.name for m in pkgutil.walk_packages(diagnostics.__path__, "diagnostics."))
     + SIMULATOR
 )
 FLAGS = doctest.ELLIPSIS | doctest.NORMALIZE_WHITESPACE
@@ -80,14 +81,14 @@ def test_no_example_is_skipped():
     assert not skipped, f"skipped examples: {skipped}"
     documented = (
         "diagnostics",
-        "diagnostics.diagnose",
-        "diagnostics.kurtosis",
-        "diagnostics.envelope",
-        "diagnostics.io",
-        "diagnostics.defect_size",
-        "diagnostics.frequencies",
-        "diagnostics.speed",
-        "diagnostics.spectral",
+        "diagnostics._diagnose",
+        "diagnostics._kurtosis",
+        "diagnostics._envelope",
+        "diagnostics._io",
+        "diagnostics._defect_size",
+        "diagnostics._frequencies",
+        "diagnostics._speed",
+        "diagnostics._spectral",
         *SIMULATOR,
     )
     for name in documented:

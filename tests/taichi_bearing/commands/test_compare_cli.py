@@ -16,7 +16,7 @@ import pytest
 from synthetic_run import make_synthetic_run
 
 from diagnostics import BearingGeometry, bearing_frequencies
-from diagnostics.compare import analyse
+from diagnostics.app.compare import analyse
 from taichi_bearing.commands.compare import RESTRESS_LABEL, simulated_record
 from taichi_bearing.output.layout import HISTORIES_FILE, HISTORIES_PARTS_DIR, SUMMARY_FILE
 

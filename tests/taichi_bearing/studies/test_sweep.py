@@ -18,7 +18,7 @@ import pandas as pd
 import pytest
 import yaml
 
-from diagnostics.envelope import envelope_spectrum
+from diagnostics import envelope_spectrum
 from taichi_bearing.__main__ import main as cli
 from taichi_bearing.case import case_to_dict, load_case
 from taichi_bearing.errors import CaseError, InputError
