@@ -65,7 +65,11 @@ def child(case_path: str, n_models: int) -> dict:
     """Build, step and read ``n_models`` models of the case in this process."""
     import taichi_bearing
     from taichi_bearing.case import load_case
-    from taichi_bearing.simulation.simulate import build_model, stage_mesh
+
+    if (Path(taichi_bearing.__file__).parent / "simulation").is_dir():
+        from taichi_bearing.simulation.simulate import build_model, stage_mesh
+    else:  # a revision from before the packages by stage (issue 42)
+        from taichi_bearing.simulate import build_model, stage_mesh
 
     seconds, count = _count_compiles()
     case = load_case(case_path, ["run.threads=1"])
