@@ -62,6 +62,7 @@ UNITS: dict[str, Unit] = {
         Unit("mm", 1e-3, "m"),
         Unit("kN", 1e3, "N"),
         Unit("GPa", 1e9, "Pa"),
+        Unit("GPa_mm", 1e12, "Pa/m", "GPa/mm"),
         Unit("ms", 1e-3, "s"),
         Unit("deg", math.pi / 180.0, "rad"),
         Unit("rpm", 2.0 * math.pi / 60.0, "rad/s"),

@@ -251,11 +251,17 @@ class MeshControls:
 class Contact:
     """Penalty contact with Coulomb friction and viscous contact damping."""
 
-    penalty_method: Literal["segment", "soft"] = key(
-        doc="penalty stiffness from the segment's bulk stiffness (K A^2 / V) or from the "
-        "nodal mass and time step (soft)"
+    penalty_method: Literal["segment", "soft", "pressure"] = key(
+        doc="penalty stiffness from the segment's bulk stiffness (K A^2 / V), from the "
+        "nodal mass and time step (soft), or a pressure per unit overlap the mesh does not "
+        "set (pressure: penalty_pressure_GPa_mm, or penalty_scale E* / b_ref)"
     )
-    penalty_scale: float = key(gt=0.0, doc="scale factor on the penalty stiffness")
+    penalty_scale: float = key(
+        gt=0.0,
+        doc="scale factor on the penalty stiffness: f_s (segment, soft) or alpha (pressure: "
+        "p_s = alpha E* / b_ref, b_ref the smaller Hertz half-width of the most loaded "
+        "roller; the penalty's overlap is about 1/alpha of the Hertz gap)",
+    )
     friction_static: float = key(ge=0.0, doc="static Coulomb coefficient")
     friction_dynamic: float = key(ge=0.0, doc="dynamic coefficient, at most friction_static")
     friction_decay: float = key(
@@ -269,6 +275,13 @@ class Contact:
         default=True,
         doc="contact against each surface segment's undeformed arc (true) rather than its "
         "chord (false: LS-DYNA's plain node-to-segment contact)",
+    )
+    penalty_pressure: float = key(
+        "GPa_mm",
+        ge=0.0,
+        default=0.0,
+        doc="pressure law: pressure per unit overlap p_s given directly; 0 = from "
+        "penalty_scale (alpha E* / b_ref)",
     )
 
 

@@ -18,6 +18,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from taichi_bearing.analytic.bearing import cage_speed
+from taichi_bearing.analytic.penalty import pressure_penalty
 from taichi_bearing.case import Case
 from taichi_bearing.case.material import Material
 from taichi_bearing.mesh.supports import outer_surface_nodes, support_plate_nodes
@@ -184,7 +185,10 @@ def build_setup(case: Case, mesh: Mesh) -> Setup:
         loads=[load],
         initial_velocities=velocities,
         damping=damping,
-        contact_params=ContactParameters.from_case(case.contact),
+        contact_params=ContactParameters.from_case(
+            case.contact,
+            pressure_penalty(case) if case.contact.penalty_method == "pressure" else 0.0,
+        ),
         contact_pairs=pairs,
         pair_table=table,
         rates=rates,

@@ -128,6 +128,8 @@ class PenaltyContact(ForceContributor):
         # pass table: query surface S against segment surface M -> pair, sign of resultant
         table = np.full(ns * ns, -1, dtype=np.int32)
         sign = np.zeros(ns * ns)
+        # a query-side law's stiffness is shared by the passes of its pair
+        pass_share = np.ones(ns * ns)
         for k, p in enumerate(self.pairs):
             s, m = sid[p.slave_surface], sid[p.master_surface]
             if s == m:
@@ -137,6 +139,7 @@ class PenaltyContact(ForceContributor):
                     raise ValueError(f"pair {p.name!r} duplicates another pair")
                 table[a * ns + b] = k
                 sign[a * ns + b] = sg
+                pass_share[a * ns + b] = 0.5 if p.two_pass else 1.0
         query_surfaces = sorted({i // ns for i in np.flatnonzero(table >= 0)})
         seg_surfaces = sorted({i % ns for i in np.flatnonzero(table >= 0)})
 
@@ -160,10 +163,17 @@ class PenaltyContact(ForceContributor):
         segs = np.concatenate(segs)
         seg_surf = np.concatenate(seg_surf).astype(np.int32)
         k_seg = self.law.segment_stiffness(model, segs)
+        self._query_side = self.law.side == "query"
+        q_k = np.zeros(len(q_node))
+        if self._query_side:
+            for sq in query_surfaces:
+                on_s = q_surf == sq
+                q_k[on_s] = self.law.node_stiffness(model, mesh.surfaces[names[sq]], q_node[on_s])
         if self.law.bounded:  # a law that follows the step (soft) needs no bound
             passes = [
                 (np.asarray(mesh.surfaces[names[i // ns]]), segs[seg_surf == i % ns],
-                 k_seg[seg_surf == i % ns])
+                 self._pass_stiffness(k_seg[seg_surf == i % ns], q_k[q_surf == i // ns],
+                                      pass_share[i]))
                 for i in np.flatnonzero(table >= 0)
             ]  # fmt: skip
             k_node, c_node = self.law.contact_bound(model, passes)
@@ -192,6 +202,7 @@ class PenaltyContact(ForceContributor):
         v2 = lambda n: ti.Vector.field(2, ti.f64, shape=max(n, 1))  # noqa: E731
         self.pass_pair = f(ti.i32, shape=ns * ns)
         self.pass_sign = f(ti.f64, shape=ns * ns)
+        self.pass_share = f(ti.f64, shape=ns * ns)
         self.q_node = f(ti.i32, shape=nq)
         self.q_surf = f(ti.i32, shape=nq)
         self.q_prev = f(ti.i32, shape=nq)  # neighbours along the query's own surface
@@ -199,6 +210,7 @@ class PenaltyContact(ForceContributor):
         self.q_kappa = f(ti.f64, shape=nq)  # reference curvature of its surface there
         self.q_corner = f(ti.i32, shape=nq)  # 1: a corner of its surface (point contact)
         self.q_hmax = f(ti.f64, shape=nq)  # 1.5 x half the reference tributary length
+        self.q_k = f(ti.f64, shape=nq)  # a query-side law's stiffness of the node
         self.q_seg = f(ti.i32, shape=nq)  # segment in contact, -1 open
         self.q_ft = f(ti.f64, shape=nq)  # tangential spring force along the segment
         self.q_fn = f(ti.f64, shape=nq)  # last normal force
@@ -247,6 +259,8 @@ class PenaltyContact(ForceContributor):
             [
                 (self.pass_pair, table),
                 (self.pass_sign, sign),
+                (self.pass_share, pass_share),
+                (self.q_k, q_k),
                 (self.q_node, q_node),
                 (self.q_surf, q_surf),
                 (self.q_prev, q_prev),
@@ -282,6 +296,13 @@ class PenaltyContact(ForceContributor):
         self._kappa_max = float(np.max(np.abs(kappa)) + np.max(np.abs(q_kappa)))
         sagitta = float(np.max(np.abs(kappa) * lengths**2)) / 8.0
         self._activate_base = float(g.capture + g.margin) + sagitta
+
+    def _pass_stiffness(self, k_seg: np.ndarray, k_query: np.ndarray, share: float):
+        """The stiffness a pass's segments hold for the stable-step bound: their own, or
+        for a query-side law the stiffest querying node's share on every segment."""
+        if not self._query_side:
+            return k_seg
+        return np.full(len(k_seg), share * float(np.max(k_query)))
 
     # ------------------------------------------------------------------ search grid
 
@@ -436,7 +457,10 @@ class PenaltyContact(ForceContributor):
         tv, nv = arc_frame(self, s, xi, x)
         m_m = (1.0 - xi) * mass[ia] + xi * mass[ib]
         m_eff = mass[i] * m_m / (mass[i] + m_m)
-        k = self.law.stiffness(self.seg_k[s], m_eff, dt)
+        k_set = self.seg_k[s]
+        if ti.static(self._query_side):
+            k_set = self.q_k[q] * self.pass_share[S * self.n_surf + self.seg_surf[s]]
+        k = self.law.stiffness(k_set, m_eff, dt)
         vrel = v[i] - ((1.0 - xi) * v[ia] + xi * v[ib])
         vn = vrel.dot(nv)
         vt = vrel.dot(tv)

@@ -24,7 +24,7 @@ __all__ = [
     "segment_elements",
 ]
 
-PENALTY_METHODS = ("segment", "soft")
+PENALTY_METHODS = ("segment", "soft", "pressure")
 
 
 @dataclass(frozen=True)
@@ -33,7 +33,7 @@ class ContactParameters:
 
     Attributes
     ----------
-    penalty_method : {"segment", "soft"}
+    penalty_method : {"segment", "soft", "pressure"}
         ``"segment"``: LS-DYNA's segment-based stiffness ``k = f_s K A^2 / V`` of the
         master segment, with ``K = lambda + 2 mu / 3`` the bulk modulus of the element
         the segment bounds, ``A = L t`` the segment area (length x thickness) and
@@ -41,8 +41,12 @@ class ContactParameters:
         ``"soft"``: ``k = f_s m_eff / dt^2`` with ``m_eff = m_s m_m / (m_s + m_m)``, the
         slave node mass and the master mass interpolated at the contact point, and the
         model's current time step (LS-DYNA's SOFT=1 idea).
+        ``"pressure"``: a pressure per unit overlap ``penalty_pressure`` on every mesh
+        (:class:`~taichi_bearing.solver.laws.contact.PressurePenalty`).
     penalty_scale : float
-        ``f_s`` above (LS-DYNA's default is 0.1).
+        ``f_s`` above (LS-DYNA's default is 0.1); the pressure law does not read it.
+    penalty_pressure : float
+        The pressure law's ``p_s``, Pa/m (required by it, unused by the others).
     friction_static, friction_dynamic : float
         Coulomb coefficients; ``mu = mu_d + (mu_s - mu_d) exp(-decay |v_slip|)``.
     friction_decay : float
@@ -58,6 +62,7 @@ class ContactParameters:
 
     penalty_method: str = "segment"
     penalty_scale: float = 0.1
+    penalty_pressure: float = 0.0
     friction_static: float = 0.0
     friction_dynamic: float = 0.0
     friction_decay: float = 0.0
@@ -71,6 +76,10 @@ class ContactParameters:
             )
         if not self.penalty_scale > 0:
             raise ValueError(f"penalty_scale must be positive, got {self.penalty_scale!r}")
+        if self.penalty_method == "pressure" and not self.penalty_pressure > 0:
+            raise ValueError(
+                f"the pressure law needs penalty_pressure > 0 (Pa/m), got {self.penalty_pressure!r}"
+            )
         if not 0 <= self.friction_dynamic <= self.friction_static:
             raise ValueError(
                 "need 0 <= friction_dynamic <= friction_static, got "
@@ -82,11 +91,14 @@ class ContactParameters:
             raise ValueError(f"damping_ratio must lie in [0, 1], got {self.damping_ratio!r}")
 
     @classmethod
-    def from_case(cls, contact) -> ContactParameters:
-        """From a case's ``contact`` section (:class:`taichi_bearing.case.Contact`)."""
+    def from_case(cls, contact, penalty_pressure: float = 0.0) -> ContactParameters:
+        """From a case's ``contact`` section (:class:`taichi_bearing.case.Contact`) and,
+        for the pressure law, its pressure per unit overlap (Pa/m,
+        :func:`taichi_bearing.analytic.penalty.pressure_penalty` of the case)."""
         return cls(
             penalty_method=contact.penalty_method,
             penalty_scale=contact.penalty_scale,
+            penalty_pressure=penalty_pressure,
             friction_static=contact.friction_static,
             friction_dynamic=contact.friction_dynamic,
             friction_decay=contact.friction_decay,

@@ -6,6 +6,7 @@ one class: contact laws (:mod:`~taichi_bearing.solver.laws.contact`), friction
 from taichi_bearing.solver.laws.contact import (
     CONTACT_LAWS,
     ContactLaw,
+    PressurePenalty,
     SegmentPenalty,
     SoftPenalty,
     contact_law,
@@ -15,6 +16,7 @@ from taichi_bearing.solver.laws.friction import friction_force
 __all__ = [
     "CONTACT_LAWS",
     "ContactLaw",
+    "PressurePenalty",
     "SegmentPenalty",
     "SoftPenalty",
     "contact_law",

@@ -7,7 +7,8 @@ A law owns four things, and the node-to-segment contact
 
 - its stiffness rule at set-up, from the contact's reference geometry and the model's
   materials (:meth:`ContactLaw.segment_stiffness` for a master segment,
-  :meth:`ContactLaw.node_stiffness` for a node against a rigid wall), and in the step
+  :meth:`ContactLaw.node_stiffness` for a node against a rigid wall or, for a law whose
+  :attr:`ContactLaw.side` is ``"query"``, for the querying node), and in the step
   (:meth:`ContactLaw.stiffness`: what a law that follows the time step makes of them);
 - its normal force and damping, one Taichi function (:meth:`ContactLaw.normal`);
 - its stored energy (:meth:`ContactLaw.energy`, :meth:`ContactLaw.patch_energy`);
@@ -34,6 +35,7 @@ from taichi_bearing.solver.contact_setup import segment_elements
 __all__ = [
     "CONTACT_LAWS",
     "ContactLaw",
+    "PressurePenalty",
     "SegmentPenalty",
     "SoftPenalty",
     "contact_law",
@@ -65,6 +67,11 @@ class ContactLaw:
     name: ClassVar[str] = ""
     bounded: ClassVar[bool] = True
     """Whether the law's springs enter the stable step (False: the law follows it)."""
+    side: ClassVar[str] = "segment"
+    """Whose set-up stiffness :meth:`stiffness` receives in node-to-segment contact:
+    ``"segment"``, the touched master segment's; ``"query"``, the querying node's own
+    (:meth:`node_stiffness` over its surface), shared equally by the two passes of a
+    two-pass pair so that the pair's pressure is the law's."""
 
     def __init__(self, scale: float = 0.1, damping_ratio: float = 0.0) -> None:
         self.scale = float(scale)
@@ -159,6 +166,44 @@ class SegmentPenalty(ContactLaw):
             model.thickness,
             self.scale,
         )
+
+
+@ti.data_oriented
+class PressurePenalty(ContactLaw):
+    """A pressure per unit overlap ``p_s`` (Pa/m), the same on every mesh: a query node
+    stands for its tributary length ``l`` of surface, so its stiffness is
+    ``k = p_s l t`` (``t`` the thickness), and a smoothed contact's force
+    ``k * mean overlap`` is ``p_s t`` times the overlap integrated over the node's patch.
+    The two passes of a two-pass pair each carry half (each sees the same overlap), so the
+    pair presses with ``p_s`` times the overlap. Refining the mesh refines the geometry
+    only; the contact's compliance stays ``1 / p_s``.
+
+    Parameters
+    ----------
+    pressure : float
+        ``p_s``, Pa/m; ``alpha E* / b_ref`` makes the penalty's overlap under a Hertz
+        pressure about ``1 / alpha`` of the Hertz approach
+        (:func:`taichi_bearing.analytic.penalty.pressure_penalty`).
+    damping_ratio : float
+        As for :class:`ContactLaw`.
+    """
+
+    name = "pressure"
+    side = "query"
+
+    def __init__(self, pressure: float, damping_ratio: float = 0.0) -> None:
+        super().__init__(scale=1.0, damping_ratio=damping_ratio)
+        if not pressure > 0:
+            raise ValueError(f"the pressure penalty must be positive, got {pressure!r} Pa/m")
+        self.pressure = float(pressure)
+
+    def segment_stiffness(self, model, segments: np.ndarray) -> np.ndarray:
+        # p_s L t for a segment of reference length L: a node's mean over its two
+        # segments (node_stiffness) is p_s t times its tributary length
+        segs = np.asarray(segments, dtype=np.int64).reshape(-1, 2)
+        X = np.asarray(model.mesh.nodes, dtype=float)
+        length = np.linalg.norm(X[segs[:, 1]] - X[segs[:, 0]], axis=1)
+        return self.pressure * length * model.thickness
 
 
 @ti.data_oriented
@@ -308,18 +353,23 @@ def penalty_bounds(
     return k_query_role + k_seg_role, c_query_role + c_seg_role
 
 
-CONTACT_LAWS: dict[str, type[ContactLaw]] = {law.name: law for law in (SegmentPenalty, SoftPenalty)}
+CONTACT_LAWS: dict[str, type[ContactLaw]] = {
+    law.name: law for law in (SegmentPenalty, SoftPenalty, PressurePenalty)
+}
 """The laws by the name ``contact.penalty_method`` gives them."""
 
 
 def contact_law(params) -> ContactLaw:
     """The law of a contact's parameters
     (:class:`~taichi_bearing.solver.contact_setup.ContactParameters`: ``penalty_method``
-    names it, ``penalty_scale`` and ``damping_ratio`` set it)."""
+    names it, ``penalty_scale`` (``penalty_pressure`` for the pressure law) and
+    ``damping_ratio`` set it)."""
     try:
         law = CONTACT_LAWS[params.penalty_method]
     except KeyError:
         raise ValueError(
             f"no contact law {params.penalty_method!r}; the laws are {sorted(CONTACT_LAWS)}"
         ) from None
+    if law is PressurePenalty:
+        return law(params.penalty_pressure, params.damping_ratio)
     return law(params.penalty_scale, params.damping_ratio)
