@@ -4,10 +4,17 @@
 
 import numpy as np
 import pytest
-from hertz_reference import B_TARGET, E_STAR, P, R, pressed_cylinder, pressure_profile
 
 from taichi_bearing.solver.backend import init_taichi
 from taichi_bearing.solver.contact import ContactParameters
+from taichi_bearing.validation.hertz_static import (
+    B_TARGET,
+    E_STAR,
+    P,
+    R,
+    pressed_cylinder,
+    pressure_profile,
+)
 
 
 @pytest.fixture(scope="module", autouse=True)

@@ -10,18 +10,16 @@ bound allows, so the bound is exercised too (an unstable step would not settle).
 
 import numpy as np
 import pytest
-from hertz_reference import B_TARGET, E_STAR, NU, RHO, E, P, pressed_cylinder, pressure_profile
 
-from taichi_bearing.analytic.contact_pressure import contact_spread, nodal_patch
 from taichi_bearing.case.material import Material
 from taichi_bearing.mesh.bodies import merge_meshes
 from taichi_bearing.mesh.primitives import rectangle_mesh
 from taichi_bearing.solver.backend import init_taichi
 from taichi_bearing.solver.contact import ContactPair, ContactParameters, PenaltyContact
-from taichi_bearing.solver.laws import PressurePenalty
 from taichi_bearing.solver.loads import FixedNodes, HeldDirection, uniform_load
 from taichi_bearing.solver.model import Model
 from taichi_bearing.solver.relaxation import relax
+from taichi_bearing.validation.hertz_static import B_TARGET, E_STAR, NU, RHO, E, P, cylinder_patch
 
 
 @pytest.fixture(scope="module", autouse=True)
@@ -84,17 +82,6 @@ def test_pressure_law_overlap_is_the_same_on_every_mesh():
     seg_coarse, seg_fine = (pressed_blocks(n, "segment") for n in (8, 16))
     ratio = np.array([seg_coarse[x] / seg_fine[x] for x in common])
     np.testing.assert_allclose(ratio, 2.0, rtol=0.05)
-
-
-def cylinder_patch(fine: float, pressure: float) -> dict:
-    """The cylinder of :mod:`hertz_reference` relaxed onto its block through the pressure
-    law at the stable step the law's bound allows; the patch read from the block's top
-    nodes (the kernel's spread taken off)."""
-    mesh, _, contact = pressed_cylinder(
-        fine, ContactParameters(), law=PressurePenalty(pressure), time_step="global"
-    )
-    x, fy, _, trib = pressure_profile(mesh, contact)
-    return nodal_patch(x, fy, trib, 1.0, float(contact_spread(fine)))
 
 
 def test_cylinder_on_block_converges_to_hertz_at_a_fixed_penalty():
