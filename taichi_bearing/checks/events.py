@@ -4,22 +4,56 @@ race)."""
 
 from __future__ import annotations
 
+from math import comb
+
 import numpy as np
 
-from taichi_bearing.checks.common import EXIT_BURST_LIMIT, LOAD_ZONE_SHARE, RESTRESS_LIMIT, check
+from taichi_bearing.checks.common import (
+    CHECK_FALSE_FAIL_RATE,
+    EXIT_BURST_BELOW_SHARE,
+    EXIT_BURST_LIMIT,
+    EXIT_BURST_PASSAGES,
+    LOAD_ZONE_SHARE,
+    RESTRESS_LIMIT,
+    check,
+)
+
+
+def median_failure_rate(share_below: float, n: int) -> float:
+    """Chance that the median of ``n`` independent passages falls below a limit that each
+    passage falls below with probability ``share_below``: more than half of them below
+    (for even ``n``, half or more, since the median of an even count is the mean of the
+    middle two: counted as below, an upper bound).
+
+    >>> print(f"{median_failure_rate(0.05, 1):.3f} {median_failure_rate(0.05, 3):.4f}")
+    0.050 0.0073
+    """
+    if n < 1:
+        return 1.0
+    first = n // 2 + 1 if n % 2 else n // 2
+    return float(
+        sum(comb(n, k) * share_below**k * (1 - share_below) ** (n - k) for k in range(first, n + 1))
+    )
 
 
 def exit_burst_check(signatures: list[dict]) -> dict:
-    """Exit acceleration burst against entry and floor impact: the median passage.
+    """Is the exit louder than the entry? The median passage's exit acceleration peak
+    against the larger of its entry and traverse (floor impact) peaks.
 
-    Each passage gives the ratio of its exit acceleration peak to the larger of its entry
-    and traverse (floor impact) peaks; the check takes the median over the passages. One
-    passage is one sample of a chaotic bounce: the size of the burst depends on where the
-    roller is in its radial flight across the spall when the exit edge meets it (struck
-    with a gap to the inner raceway it rattles between the two; arriving on the inner
-    raceway it is squeezed up smoothly), and that phase is set by rounding-level
-    differences after the first floor impact. The median states what a typical passage
-    does; every passage's ratio is listed in the note.
+    One passage is one sample of a chaotic bounce: the size of the burst depends on where
+    the roller is in its radial flight across the spall when the exit edge meets it, and
+    that phase is set by rounding-level differences after the first floor impact. So the
+    check asks only what a run's few passages can decide: that the exit is not quieter
+    than the entry, within what a sampled peak can tell
+    (:data:`~taichi_bearing.checks.common.EXIT_BURST_LIMIT` = 0.8: a 20 kHz burst sampled
+    at 100 kHz reads up to about 20 % low). None of the 57 recorded passages of the
+    default model fell below it (the lowest 0.974). It is decided only where a correct
+    model would fail it in at most
+    :data:`~taichi_bearing.checks.common.CHECK_FALSE_FAIL_RATE` of runs
+    (:func:`median_failure_rate` of the 95 % upper bound on a passage's chance to fall
+    below: three passages or more); with fewer, ``passed`` is None. How much louder the
+    exit is (2.6 times in the median of the 57) is the passage study's number
+    (``python -m taichi_bearing passages``), not one run's.
     """
     if not signatures:
         return check(None, EXIT_BURST_LIMIT, None, "no complete passage")
@@ -28,14 +62,27 @@ def exit_burst_check(signatures: list[dict]) -> dict:
         for s in signatures
     ]
     typical = float(np.median(ratios))
-    n_pass = sum(r >= EXIT_BURST_LIMIT for r in ratios)
+    n = len(ratios)
+    n_above = sum(r >= EXIT_BURST_LIMIT for r in ratios)
+    rate = median_failure_rate(EXIT_BURST_BELOW_SHARE, n)
+    decides = rate <= CHECK_FALSE_FAIL_RATE
+    verdict = (
+        f"a correct model fails it in at most {rate:.1%} of runs of {n} passages"
+        if decides
+        else f"{n} passage(s) cannot decide it: a correct model would fail {rate:.1%} of "
+        f"such runs (more than {CHECK_FALSE_FAIL_RATE:.0%}), so it is not judged"
+    )
     return check(
         typical,
         EXIT_BURST_LIMIT,
-        typical >= EXIT_BURST_LIMIT,
-        "median over the passages of the ratio of the exit acceleration peak to the larger "
-        "of the entry and traverse (floor impact) peaks; must be at least the limit; "
-        f"{n_pass} of {len(ratios)} passages reach it; per passage: "
+        typical >= EXIT_BURST_LIMIT if decides else None,
+        "exit not quieter than entry: the median over the passages of the exit "
+        "acceleration peak over the larger of the entry and traverse (floor impact) peaks "
+        "must be at least the limit (1 less the 20 % a sampled peak can read low); "
+        f"{verdict} (a passage of the default model falls below with probability at most "
+        f"{EXIT_BURST_BELOW_SHARE:.3f}, 95 % bound from {EXIT_BURST_PASSAGES}); how much "
+        "louder is the passage study's number, not one run's; "
+        f"{n_above} of {n} passages reach it; per passage: "
         + ", ".join(f"{r:.3g}" for r in ratios),
     )
 

@@ -81,10 +81,13 @@ def noise_check(
     them when no prominence is given). With none, the facet noise is below the broadband
     response: ``passed`` None, the levels in the note. Where the contact is not
     ``faceted`` (``contact.smoothing``: each segment's arc) only a weak residue of the
-    facet noise is left, and a tone off the prediction is taken for what it then most
-    likely is, a lightly damped structural mode that stands as high as a tone (a default
-    run put one at 4.6 kHz, 10.4 dB over the roller's band, where the facet frequency's
-    own peak stood 9.5 dB): ``passed`` None; a tone within the limit still passes.
+    facet noise is left, at about the tone threshold: default runs 0.005 deg apart read it
+    11 and 9.3 dB over the band, so whether it counts as a tone is a draw of the chaotic
+    exit, and a tone off the prediction there is most likely a lightly damped structural
+    mode (one default run put one at 4.6 kHz, 10.4 dB over the roller's band). So with a
+    smooth contact the check reports the peaks and their distances and does not judge
+    (``passed`` None): it decides only what every run of a correct model would decide the
+    same way (issue 43 item 6).
     """
     prominence_db = prominence_db or {}
     names = [k for k in predicted if measured.get(k) is not None]
@@ -101,6 +104,17 @@ def noise_check(
         return f"{k} {predicted[k]:.5g} -> {measured[k]:.5g} Hz{db}"
 
     listing = ", ".join(describe(k) for k in names)
+    if not faceted:
+        nearest = max(abs(measured[k] - predicted[k]) / predicted[k] for k in names)
+        return check(
+            nearest,
+            limit,
+            None,
+            "smooth contact (contact.smoothing): the facet noise's residue stands at about "
+            f"the {TONE_DB:g} dB tone threshold, a draw of the chaotic exit from run to run, "
+            "so its peaks are reported, not judged (the faceted contact's check); largest "
+            f"distance {nearest:.2%} (resolution {resolution:.4g} Hz): {listing}",
+        )
     if not tones:
         return check(
             None,
@@ -110,14 +124,6 @@ def noise_check(
             f"facet frequencies: the facet noise is below the broadband response; {listing}",
         )
     err = max(abs(measured[k] - predicted[k]) / predicted[k] for k in tones)
-    if err > limit and not faceted:
-        return check(
-            None,
-            limit,
-            None,
-            "smooth contact (contact.smoothing): a tone off the facet frequencies is taken "
-            f"for a structural mode, not placed (resolution {resolution:.4g} Hz): {listing}",
-        )
     return check(
         err,
         limit,

@@ -118,7 +118,9 @@ def test_entry_is_gradual_and_exit_is_a_burst(coarse_run):
     # the acceleration burst at exit dominates the entry and the floor impact
     assert ev["exit_accel_peak"] > 2.0 * ev["entry_accel_peak"]
     assert ev["exit_accel_peak"] > 2.0 * ev["floor_accel_peak"]
-    assert summary["checks"]["exit_burst"]["passed"]
+    # one passage cannot decide the run's exit_burst check at 1 % (issue 43 item 6)
+    assert summary["checks"]["exit_burst"]["passed"] is None
+    assert summary["checks"]["exit_burst"]["value"] > 2.0
     assert math.isfinite(tx)
 
 
