@@ -68,7 +68,22 @@ def check_case(case: Case, source: str | None = None) -> None:
     _check_defect(case, source)
     _check_refinement(case, source)
     _check_time_step(case, source)
+    _check_contact(case, source)
     _check_sensors(case, source)
+
+
+def _check_contact(case: Case, src: str | None) -> None:
+    # The element estimate ignores the contact's springs; the pressure law's are stiffer
+    # than the elements on any mesh coarser than the Hertz width, so only the global
+    # estimate (which counts them) keeps such a run stable.
+    if case.contact.penalty_method == "pressure" and case.run.time_step != "global":
+        raise CaseError(
+            "run.time_step",
+            "contact.penalty_method: pressure needs the global step estimate (global): the "
+            f"{case.run.time_step!r} estimate ignores the contact's springs, which this law "
+            "makes stiffer than the elements, and the run would go unstable",
+            src,
+        )
 
 
 def _check_geometry(case: Case, src: str | None) -> None:

@@ -101,6 +101,17 @@ def test_damping_element_cap_defaults_and_is_validated(tmp_path, raw):
         load_case(write(tmp_path, raw))
 
 
+def test_the_pressure_law_is_refused_with_the_element_step(tmp_path, raw):
+    """The element estimate ignores the contact's springs, which the pressure law makes
+    stiffer than the elements: refused, naming run.time_step; the global one is taken."""
+    raw["contact"]["penalty_method"] = "pressure"
+    raw["run"]["time_step"] = "element"
+    with pytest.raises(CaseError, match="run.time_step"):
+        load_case(write(tmp_path, raw))
+    raw["run"]["time_step"] = "global"
+    assert load_case(write(tmp_path, raw)).contact.penalty_method == "pressure"
+
+
 def test_outer_support_defaults_to_the_adapter(tmp_path, raw):
     raw = dict(raw, bearing={k: v for k, v in raw["bearing"].items() if k != "outer_support"})
     assert load_case(write(tmp_path, raw)).bearing.outer_support == "adapter"
