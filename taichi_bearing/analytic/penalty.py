@@ -44,9 +44,8 @@ def pressure_penalty(case) -> float:
     given (non-zero), else ``alpha E* / b_ref`` with ``alpha = contact.penalty_scale``,
     ``E*`` the steel pair's contact modulus and ``b_ref`` :func:`reference_half_width`."""
     contact = case.contact
-    given = float(getattr(contact, "penalty_pressure", 0.0) or 0.0)
-    if given > 0:
-        return given
+    if contact.penalty_pressure > 0:
+        return float(contact.penalty_pressure)
     mat = case.material
     e_star = effective_modulus(mat.youngs_modulus, mat.poissons_ratio)
     b_ref = reference_half_width(case)

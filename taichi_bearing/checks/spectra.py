@@ -93,10 +93,10 @@ def noise_check(
     names = [k for k in predicted if measured.get(k) is not None]
     if not names:
         return check(None, NOISE_LIMIT, None, "no prediction below Nyquist")
-    # without a prominence every peak counts as a tone (a 0 dB peak does not)
-    level = {k: prominence_db.get(k) for k in names}
-    tones = [k for k in names if level[k] is None or level[k] >= TONE_DB]
     limit = max(NOISE_LIMIT, resolution / min(predicted[k] for k in names))
+
+    def distance(k):
+        return abs(measured[k] - predicted[k]) / predicted[k]
 
     def describe(k):
         level = prominence_db.get(k)
@@ -105,7 +105,7 @@ def noise_check(
 
     listing = ", ".join(describe(k) for k in names)
     if not faceted:
-        nearest = max(abs(measured[k] - predicted[k]) / predicted[k] for k in names)
+        nearest = max(distance(k) for k in names)
         return check(
             nearest,
             limit,
@@ -115,6 +115,9 @@ def noise_check(
             "so its peaks are reported, not judged (the faceted contact's check); largest "
             f"distance {nearest:.2%} (resolution {resolution:.4g} Hz): {listing}",
         )
+    # without a prominence every peak counts as a tone (a 0 dB peak does not)
+    level = {k: prominence_db.get(k) for k in names}
+    tones = [k for k in names if level[k] is None or level[k] >= TONE_DB]
     if not tones:
         return check(
             None,
@@ -123,7 +126,7 @@ def noise_check(
             f"no tonal peak {TONE_DB:g} dB above the band within 10 % of the predicted "
             f"facet frequencies: the facet noise is below the broadband response; {listing}",
         )
-    err = max(abs(measured[k] - predicted[k]) / predicted[k] for k in tones)
+    err = max(distance(k) for k in tones)
     return check(
         err,
         limit,
