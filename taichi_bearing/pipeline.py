@@ -13,6 +13,7 @@ redoes a run's checks and report without loading Taichi.
 from __future__ import annotations
 
 import time
+from collections.abc import Sequence
 from pathlib import Path
 
 from bearing_io.files import write_json
@@ -37,7 +38,7 @@ from taichi_bearing.output.summary import write_partial_summary, write_summary
 from taichi_bearing.post.report import write_report
 from taichi_bearing.post.run_figures import make_run_figures
 
-__all__ = ["recheck_run", "run_case"]
+__all__ = ["recheck_run", "run_case", "run_ensemble"]
 
 
 def run_case(
@@ -94,6 +95,11 @@ def run_case(
         case, out, resume=resume, arch=arch, threads=threads, quiet=quiet,
         progress_interval=progress_interval, log=log,
     )  # fmt: skip
+    return _check_run(case, out, done, post, say)
+
+
+def _check_run(case: Case, out: Path, done, post: bool, say) -> dict:
+    """A simulated run's checks (and figures and report): its summary finished."""
     summary, times = done.summary, done.summary["stage_times_s"]
     t0 = time.perf_counter()
     hist = read_histories(out)
@@ -108,6 +114,40 @@ def run_case(
     failed = [k for k, c in summary["checks"].items() if c["passed"] is False]
     say(f"checks: {len(summary['checks']) - len(failed)} passed, failed: {failed or 'none'}")
     return summary
+
+
+def run_ensemble(
+    cases: Sequence[Case],
+    out_dirs: Sequence[str | Path],
+    *,
+    arch: str | None = None,
+    threads: int | None = None,
+    quiet: bool = False,
+    progress_interval: float | None = LOG_INTERVAL_S,
+    post: bool = True,
+    log=print,
+) -> list[dict | Exception]:
+    """:func:`run_case` of several cases stepped as one model (an ensemble,
+    :func:`~taichi_bearing.simulation.ensemble.simulate_ensemble`): each case's run folder
+    as its run alone writes it, histories bit for bit.
+
+    Returns
+    -------
+    list
+        Per case, its summary, or the error that stopped it (its folder keeps what it
+        recorded and says why).
+    """
+    from taichi_bearing.simulation.ensemble import simulate_ensemble  # Taichi
+
+    say = (lambda *a: None) if quiet else log
+    done = simulate_ensemble(
+        cases, out_dirs, arch=arch, threads=threads, quiet=quiet,
+        progress_interval=progress_interval, log=log,
+    )  # fmt: skip
+    return [
+        d if isinstance(d, Exception) else _check_run(case, Path(out), d, post, say)
+        for case, out, d in zip(cases, out_dirs, done, strict=True)
+    ]
 
 
 def recheck_run(out_dir: str | Path, *, post: bool = True, remesh: bool = False, say=print) -> dict:

@@ -35,7 +35,7 @@ from taichi_bearing.output.recorder import Recorder
 from taichi_bearing.output.vtk import FrameWriter
 from taichi_bearing.solver.model import Model
 
-__all__ = ["Recorder", "RunConfig", "RunResult", "run_transient", "steps_per_sample"]
+__all__ = ["Recorder", "RunConfig", "RunResult", "run_members", "run_transient", "steps_per_sample"]
 
 
 def _stateful(model: Model, recorders: Sequence[Recorder]) -> dict[str, object]:
@@ -112,6 +112,7 @@ class RunResult:
     steps: int
     wall_s: float
     frames: list = field(default_factory=list)
+    error: SimulationError | None = None  # why an ensemble's member stopped
 
     def column(self, name: str) -> np.ndarray:
         return self.rows[:, self.columns.index(name)]
@@ -132,15 +133,6 @@ def _every(interval: float | None, sample_rate: float) -> int | None:
     if interval is None:
         return None
     return max(1, round(interval * sample_rate))
-
-
-def _contact_energy(model: Model) -> float:
-    """Sum of the contributors' ``energy()`` (stored penalty energy, the cage's motion).
-
-    Informational: the work of contributor forces is already in ``external_work`` (it is
-    part of the non-elastic nodal force), so it is not added to the balance again.
-    """
-    return float(sum(c.energy() for c in model.contributors))
 
 
 def _diagnose(model: Model, step: int, t: float, what: str, cause: str) -> SimulationError:
@@ -206,23 +198,103 @@ def run_transient(
         the message names step, time, node and element. Histories and frames recorded
         until then stay on disk (histories up to the last full sample).
     """
+    if model.ensemble_size != 1:
+        raise ValueError("run_transient steps one model; an ensemble's is run_members")
+    (result,) = run_members(model, config, [out_dir], [recorders], resume, fingerprint)
+    if result.error is not None:
+        raise result.error
+    return result
+
+
+@dataclass
+class _Member:
+    """One member's share of a transient: its sensors, recorders, folder and balance."""
+
+    k: int
+    sensors: slice
+    recorders: Sequence[Recorder]
+    out: Path | None
+    writer: HistoryWriter | None = None
+    rows: list = field(default_factory=list)
+    e0: float = 0.0
+    error: SimulationError | None = None
+    view: object = None  # an ensemble member's MemberModel
+    held: bool = False  # not run (it stopped before the transient)
+
+    @property
+    def live(self) -> bool:
+        return self.error is None and not self.held
+
+
+def run_members(
+    model: Model,
+    config: RunConfig,
+    out_dirs: Sequence[str | os.PathLike | None],
+    recorders: Sequence[Sequence[Recorder]],
+    resume: bool = False,
+    fingerprint: str = "",
+    sample=None,
+    active: Sequence[bool] | None = None,
+) -> list[RunResult]:
+    """:func:`run_transient` of every member of an ensemble (one model: one member).
+
+    Each member writes its own folder (``out_dirs[k]``) with its own recorders and energy
+    balance: the rows its case run alone writes. A member that stops (NaN, an inverted
+    element, the balance) is held still and its error kept in its result
+    (``RunResult.error``); the others go on. Frames and checkpoints (and ``resume``) are
+    for one model only. ``sample`` (an :class:`~taichi_bearing.simulation.members.
+    EnsembleSample`) is refreshed before the members' recorders read each sample.
+    """
     if not config.duration > 0:
         raise InputError(f"run.duration: must be positive, got {config.duration!r}")
-    out = Path(out_dir) if out_dir is not None else None
+    nm = model.ensemble_size
+    if len(out_dirs) != nm or len(recorders) != nm:
+        raise ValueError(f"run_members: one folder and one recorder list per member ({nm})")
+    single = nm == 1
+    out = Path(out_dirs[0]) if single and out_dirs[0] is not None else None
     ckpt_dir = out / CHECKPOINTS_DIR if out is not None else None
     s_steps, dt = steps_per_sample(model.dt_stable, config.sample_rate, model.cycle_steps)
     n_samples = max(1, round(config.duration * config.sample_rate))
     frame_every = _every(config.frame_interval, config.sample_rate) if out else None
     ckpt_every = _every(config.checkpoint_interval, config.sample_rate) if out else None
-    base = history_columns(model.sensor_names, 0, ENERGY_KINDS)
-    n_head = 1 + 6 * len(model.sensor_names)
-    extra = [c for r in recorders for c in r.columns]
+    ns = model.n_sensor // nm
+    names = (
+        [n.split(":", 1)[-1] for n in model.sensor_names[:ns]]
+        if not single
+        else (model.sensor_names)
+    )
+    base = history_columns(names, 0, ENERGY_KINDS)
+    n_head = 1 + 6 * ns
+    extra = [c for r in recorders[0] for c in r.columns]
     columns = base[:n_head] + extra + base[n_head:] + [BALANCE_COLUMN]
-    stateful = _stateful(model, recorders)
+    members = [
+        _Member(
+            k,
+            slice(k * ns, (k + 1) * ns),
+            recorders[k],
+            Path(out_dirs[k]) if out_dirs[k] is not None else None,
+        )  # fmt: skip
+        for k in range(nm)
+    ]
+    if not single:
+        from taichi_bearing.simulation.members import MemberModel
+
+        for m, on in zip(members, active if active is not None else [True] * nm, strict=True):
+            m.view = MemberModel(sample, m.k)
+            m.held = not on
+            m.out = m.out if on else None
+        model.set_members_active([m.live for m in members])
+    stateful = _stateful(model, recorders[0]) if single else {}
+
+    def refresh() -> None:
+        if sample is not None:
+            sample.refresh()
 
     k0 = 0
     resume_time = None
     if resume:
+        if not single:
+            raise InputError("--resume: an ensemble is not resumed; run it again")
         if ckpt_dir is None:
             raise InputError("--resume needs an output folder")
         path = latest_checkpoint(ckpt_dir)
@@ -231,26 +303,27 @@ def run_transient(
         _, resume_time, arrays, meta = load_checkpoint(path, fingerprint or None)
         model.load_state_arrays(arrays)
         _load_states(arrays, stateful)
-        e0 = float(arrays["initial_energy"])
+        members[0].e0 = float(arrays["initial_energy"])
         k0 = int(meta["sample"])
         if int(meta["steps_per_sample"]) != s_steps:
             raise InputError(f"{path}: checkpoint was written with another sample rate")
     else:
         model.set_dt(dt)
         model.restart_accounting()
-        model.bad_element[None] = model.n_elements
+        model.reset_bad_elements()
         model.advance(1, record_last=True)  # t = 0 -> dt (a half step for v)
         model.take_sensor_means(1)  # t = 0 belongs to no output interval
-        for r in recorders:
-            r.sample(model)  # likewise for the recorders' sums
-        en = model.energies()
-        e0 = en["kinetic"] + en["internal"] + en["hourglass"]
+        refresh()
+        for m in members:
+            for r in m.recorders if not m.held else ():
+                r.sample(_view(model, m))  # likewise for the recorders' sums
+        for m, en in zip(members, model.member_energies(), strict=True):
+            m.e0 = en["kinetic"] + en["internal"] + en["hourglass"]
 
-    writer = None
-    if out is not None:
-        writer = HistoryWriter(out, columns, config.chunk_rows, config.csv, resume_time)
+    for m in members:
+        if m.out is not None:
+            m.writer = HistoryWriter(m.out, columns, config.chunk_rows, config.csv, resume_time)
     frames = FrameWriter(out, model.mesh, resume_time) if frame_every else None
-    rows: list[np.ndarray] = []
     wall0 = time.perf_counter()
     step = lambda: model.step_count - 1  # noqa: E731 - index of the last step taken
     try:
@@ -266,57 +339,26 @@ def run_transient(
                 model.advance(s_steps, record_last=True)
                 t = step() * model.dt
                 means = model.take_sensor_means(s_steps)
-                extra_values = [np.asarray(r.sample(model), dtype=float) for r in recorders]
-                en = model.energies()
-                en["contact"] = _contact_energy(model)
-                mech = en["kinetic"] + en["internal"] + en["hourglass"]
-                resid = mech + en["damping"] - en["external_work"] - e0
-                scale = max(mech, abs(en["external_work"]), e0, en["damping"])
-                balance = resid / scale if scale > config.energy_floor else 0.0
-                row = np.concatenate(
-                    [
-                        [t],
-                        means.ravel(),
-                        *extra_values,
-                        [en[kind] if kind in en else 0.0 for kind in ENERGY_KINDS],
-                        [balance],
-                    ]
-                )
-                if not np.all(np.isfinite(row)):
-                    raise _diagnose(
-                        model,
-                        step(),
-                        t,
-                        "a value is NaN or infinite",
-                        "unstable step (dt too large for a stiffness) or a load too large",
-                    )
-                if model.bad_element_index() is not None:
-                    raise _diagnose(
-                        model,
-                        step(),
-                        t,
-                        "an element turned inside out",
-                        "large deformation (load too large, penalty too stiff, mesh too coarse)",
-                    )
-                rows.append(row)
-                if writer is not None:
-                    writer.append(row)
-                if abs(balance) > config.energy_tol:
-                    raise _diagnose(
-                        model,
-                        step(),
-                        t,
-                        f"energy balance error {balance:.3g} exceeds {config.energy_tol:g}",
-                        "instability (time step, penalty stiffness) or a constraint adding energy",
-                    )
+                refresh()
+                energies = model.member_energies()
+                contact = _contact_energies(model)
+                live = [m for m in members if m.live]
+                for m in live:
+                    _member_sample(model, m, config, t, means, energies, contact, step)
+                if single and members[0].error is not None:
+                    break
+                if not single and any(m.error is not None for m in live):
+                    model.set_members_active([m.live for m in members])
+                    if not any(m.live for m in members):
+                        break
                 if frames is not None and k % frame_every == 0:
                     frames.write(
                         t, model.displacements(), model.velocities(), model.von_mises_stress()
                     )
                 if ckpt_every is not None and k % ckpt_every == 0 and k < n_samples:
-                    writer.flush()
+                    members[0].writer.flush()
                     arrays = model.state_arrays()
-                    arrays["initial_energy"] = np.float64(e0)
+                    arrays["initial_energy"] = np.float64(members[0].e0)
                     _save_states(arrays, stateful)
                     save_checkpoint(
                         ckpt_dir,
@@ -328,13 +370,85 @@ def run_transient(
                     )
                 bar.update(model.step_count, t)
     finally:
-        if writer is not None:
-            writer.close()
-    return RunResult(
-        columns,
-        np.array(rows).reshape(-1, len(columns)),
-        model.dt,
-        model.step_count,
-        time.perf_counter() - wall0,
-        frames.frames if frames is not None else [],
+        for m in members:
+            if m.writer is not None:
+                m.writer.close()
+        if not single:
+            model.set_members_active([True] * nm)
+    wall = time.perf_counter() - wall0
+    return [
+        RunResult(
+            columns,
+            np.array(m.rows).reshape(-1, len(columns)),
+            model.dt,
+            model.step_count,
+            wall,
+            frames.frames if frames is not None else [],
+            m.error,
+        )
+        for m in members
+    ]
+
+
+def _view(model: Model, m: _Member):
+    """What member ``m``'s recorders read: the model itself, or the member's view."""
+    return model if m.view is None else m.view
+
+
+def _contact_energies(model: Model) -> list[float]:
+    """Each member's sum of the contributors' ``energy()`` (stored penalty energy, the
+    cage's motion). Informational: the work of contributor forces is already in
+    ``external_work`` (it is part of the non-elastic nodal force), so it is not added to
+    the balance again."""
+    per = [c.member_energies() for c in model.contributors]
+    return [float(sum(e[k] for e in per)) for k in range(model.ensemble_size)]
+
+
+def _member_sample(model, m: _Member, config: RunConfig, t: float, means, energies,
+                   contact, step) -> None:  # fmt: skip
+    """Member ``m``'s row of this sample, written; an error kept in ``m.error``."""
+    extra_values = [np.asarray(r.sample(_view(model, m)), dtype=float) for r in m.recorders]
+    en = dict(energies[m.k])
+    en["contact"] = contact[m.k]
+    mech = en["kinetic"] + en["internal"] + en["hourglass"]
+    resid = mech + en["damping"] - en["external_work"] - m.e0
+    scale = max(mech, abs(en["external_work"]), m.e0, en["damping"])
+    balance = resid / scale if scale > config.energy_floor else 0.0
+    row = np.concatenate(
+        [
+            [t],
+            means[m.sensors].ravel(),
+            *extra_values,
+            [en[kind] if kind in en else 0.0 for kind in ENERGY_KINDS],
+            [balance],
+        ]
     )
+    if not np.all(np.isfinite(row)):
+        m.error = _diagnose(
+            model,
+            step(),
+            t,
+            "a value is NaN or infinite",
+            "unstable step (dt too large for a stiffness) or a load too large",
+        )
+        return
+    if model.bad_element_index(m.k) is not None:
+        m.error = _diagnose(
+            model,
+            step(),
+            t,
+            "an element turned inside out",
+            "large deformation (load too large, penalty too stiff, mesh too coarse)",
+        )
+        return
+    m.rows.append(row)
+    if m.writer is not None:
+        m.writer.append(row)
+    if abs(balance) > config.energy_tol:
+        m.error = _diagnose(
+            model,
+            step(),
+            t,
+            f"energy balance error {balance:.3g} exceeds {config.energy_tol:g}",
+            "instability (time step, penalty stiffness) or a constraint adding energy",
+        )

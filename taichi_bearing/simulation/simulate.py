@@ -59,9 +59,14 @@ __all__ = [
     "Simulated",
     "build_model",
     "check_entries",
+    "fitted_step",
+    "mass_scaling_entry",
+    "open_run_folder",
     "preload",
+    "preload_entries",
     "simulate",
     "stage_mesh",
+    "transient_entries",
 ]
 
 
@@ -87,19 +92,24 @@ def stage_mesh(case: Case) -> tuple[Mesh, dict]:
     return mesh, to_jsonable(dataclasses.asdict(stats))
 
 
-def _mass_scaling(model, mesh: Mesh) -> dict:
+def mass_scaling_entry(added_mass, part_mass, part_names, n_elements: int) -> dict:
     """What selective mass scaling did: elements scaled, mass added per part (kg, and as a
     fraction of the part's mass)."""
     added = {
-        mesh.part_names[p]: (float(m), float(m / model.part_mass[p]))
-        for p, m in enumerate(model.added_mass)
+        part_names[p]: (float(m), float(m / part_mass[p]))
+        for p, m in enumerate(added_mass)
         if m > 0
     }
     return {
-        "n_elements": model.n_mass_scaled,
+        "n_elements": n_elements,
         "added_mass_kg": {k: v[0] for k, v in added.items()},
         "added_mass_fraction": {k: v[1] for k, v in added.items()},
     }
+
+
+def _mass_scaling(model, mesh: Mesh) -> dict:
+    return mass_scaling_entry(model.added_mass, model.part_mass, mesh.part_names,
+                              model.n_mass_scaled)  # fmt: skip
 
 
 def _mass_scaling_text(model, mesh: Mesh) -> str:
@@ -171,21 +181,34 @@ def preload(bm: BearingModel, progress: Callable[[int, float], None] | None = No
 
     case, model = bm.case, bm.model
     res = relax(model, case.preload.ke_ratio_tol, case.preload.max_steps, progress=progress)
+    forces = np.asarray(bm.contact.current_resultants())[bm.setup.pair_table]
+    return preload_entries(case, bm.mesh, res, forces, model.positions(), bm.contact.nodal_forces())
+
+
+def preload_entries(case: Case, mesh: Mesh, res, forces: np.ndarray, positions: np.ndarray,
+                    nodal_forces: np.ndarray) -> dict:  # fmt: skip
+    """:func:`preload`'s result from the relaxation's (``res``), the pairs' resultants
+    ``forces`` (roller, race, 4), and the nodes' positions and contact forces.
+
+    Raises
+    ------
+    SimulationError
+        If the relaxation did not converge.
+    """
     if not res.converged:
         raise SimulationError(
             f"preload did not converge in {res.steps} steps (KE ratio {res.ke_ratio:.3g} > "
             f"{case.preload.ke_ratio_tol:g}); raise preload.max_steps or check the load"
         )
-    forces = np.asarray(bm.contact.current_resultants())[bm.setup.pair_table]  # (roller, race, 4)
-    top = bm.mesh.node_sets["adapter_top"]
-    drop = float(-np.mean(model.displacements()[top, 1]))
+    top = mesh.node_sets["adapter_top"]
+    drop = float(-np.mean((positions - np.asarray(mesh.nodes, dtype=float))[top, 1]))
     # the most loaded roller's outer contact as the mesh resolves it, beside Hertz
     j = int(np.argmax(forces[:, 0, 2]))
-    cx, cy = np.asarray(bm.mesh.info["roller_centres"], dtype=float)[j]
+    cx, cy = np.asarray(mesh.info["roller_centres"], dtype=float)[j]
     patch = raceway_patch(
-        model.positions(),
-        bm.contact.nodal_forces(),
-        np.asarray(bm.mesh.surfaces["outer_raceway"]),
+        positions,
+        nodal_forces,
+        np.asarray(mesh.surfaces["outer_raceway"]),
         math.atan2(cy, cx),
         case.bearing,
         case.material,
@@ -200,6 +223,40 @@ def preload(bm: BearingModel, progress: Callable[[int, float], None] | None = No
         "outer_fy_N": forces[:, 0, 1].tolist(),
         "plate_drop_m": drop,
         "contact_patch": {"roller": j, "race": "outer", **patch},
+    }
+
+
+def fitted_step(model, case: Case) -> float:
+    """The run's time step: the stable one lowered to fit a whole number of steps in the
+    output interval (:func:`~taichi_bearing.simulation.engine.steps_per_sample`)."""
+    from taichi_bearing.simulation.engine import steps_per_sample
+
+    return steps_per_sample(model.dt_stable, case.run.sample_rate, model.cycle_steps)[1]
+
+
+def open_run_folder(case: Case, out: Path, mesh: Mesh, stats: dict) -> None:
+    """Create a run folder with the case, the mesh statistics and the mesh info."""
+    out.mkdir(parents=True, exist_ok=True)
+    _write_case(case, out)
+    write_json(out / MESH_STATISTICS_FILE, stats)
+    write_json(out / MESH_INFO_FILE, mesh.info)
+
+
+def transient_entries(model) -> dict:
+    """The summary's entries on how the model stepped: the step, its estimate, the
+    multi-rate classes, the steps in each stepping mode."""
+    return {
+        "dt_s": model.dt,
+        "time_step": {
+            "method": model.time_step,
+            "critical_step_s": model.critical_step,
+            "damping_step_factor": model.damping_step_factor,
+            "element_step_s": float(model.element_dt.min()),
+        },
+        **({"multirate": model.step_classes.summary()} if model.step_classes else {}),
+        # preload and transient steps by stepping mode: "serial" where other processes
+        # kept the cores busy (see solver.stepping.choose_mode)
+        "steps_by_mode": dict(model.steps_by_mode),
     }
 
 
@@ -302,7 +359,6 @@ def simulate(
 
     say = (lambda *a: None) if quiet else log
     out = Path(out_dir) if out_dir is not None else case.out_dir
-    out.mkdir(parents=True, exist_ok=True)
     arch = arch or case.run.arch
     threads = case.run.threads if threads is None else threads
     times: dict[str, float] = {}
@@ -310,9 +366,7 @@ def simulate(
 
     t0 = time.perf_counter()
     mesh, stats = stage_mesh(case)
-    _write_case(case, out)
-    write_json(out / MESH_STATISTICS_FILE, stats)
-    write_json(out / MESH_INFO_FILE, mesh.info)
+    open_run_folder(case, out, mesh, stats)
     times["mesh"] = time.perf_counter() - t0
     say(f"mesh: {mesh.n_elements} elements, {mesh.n_nodes} nodes ({times['mesh']:.1f} s)")
     note = resolution_warning(stats, 0.5 * case.run.sample_rate, "run.sample_rate_Hz / 2")
@@ -393,19 +447,9 @@ def simulate(
     summary.update(
         {
             **size,
-            "dt_s": model.dt,
-            "time_step": {
-                "method": model.time_step,
-                "critical_step_s": model.critical_step,
-                "damping_step_factor": model.damping_step_factor,
-                "element_step_s": float(model.element_dt.min()),
-            },
+            **transient_entries(model),
             "mass_scaling": _mass_scaling(model, mesh),
-            **({"multirate": model.step_classes.summary()} if model.step_classes else {}),
             "n_steps": int(model.step_count),
-            # preload and transient steps by stepping mode: "serial" where other
-            # processes kept the cores busy (see solver.stepping.choose_mode)
-            "steps_by_mode": dict(model.steps_by_mode),
             "wall_time_s": times["transient"],
             "element_steps_per_s": (
                 mesh.n_elements * _steps_this_call(result, model, case, resume)

@@ -48,7 +48,7 @@ _EXPORTS = {
     "loads": ("FixedNodes", "HeldDirection", "NodalForces", "PrescribedRotation",
               "RigidVelocity", "line_load", "rotation_angle", "uniform_load"),
     "model": ("Model",),
-    "relaxation": ("RelaxResult", "relax"),
+    "relaxation": ("RelaxResult", "relax", "relax_members"),
 }  # fmt: skip
 _MODULE_OF = {name: module for module, names in _EXPORTS.items() for name in names}
 _MODULE_OF["Material"] = None  # the case's material (taichi_bearing.case.material)

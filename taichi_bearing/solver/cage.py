@@ -101,7 +101,9 @@ class RigidCage(ForceContributor):
         self.n_rollers = nz = len(roller_surfaces)
         self.n_nodes = nn = len(node_ids)
         self.inertia = float(inertia)
-        self.start_speed = float(start_speed)
+        # one starting speed for every member, or one each
+        self.start_speed = np.broadcast_to(np.asarray(start_speed, dtype=float),
+                                           (model.ensemble_size,)).copy()  # fmt: skip
         self.half_gap = float(half_gap)
         self.params = params
         self._cx, self._cy = (float(c) for c in center)
@@ -119,6 +121,14 @@ class RigidCage(ForceContributor):
         self.side = ti.field(ti.i32, shape=nn)  # wall in contact last step: +1, -1, 0
         self.en = ti.field(ti.f64, shape=nn)
         self.et = ti.field(ti.f64, shape=nn)
+        # an ensemble: a cage per member, each turning its own pockets (pocket_member)
+        self._members, self._member_nodes = model.ensemble_size, model.member_nodes
+        nm = self._members
+        pocket_member = np.array([model.member_of_nodes(ids) for ids in nodes])
+        if np.any(np.diff(pocket_member) < 0) or len(np.unique(pocket_member)) != nm:
+            raise ValueError("RigidCage: every ensemble member's pockets, member by member")
+        self.member_on = model.member_on
+        self.pocket_member = ti.field(ti.i32, shape=nz)
         self.angle0 = ti.field(ti.f64, shape=nz)
         self.radial = ti.Vector.field(2, ti.f64, shape=nz)  # pocket directions this step
         # This step's pocket force on each roller (fx, fy, tangential) and torque on the
@@ -126,9 +136,9 @@ class RigidCage(ForceContributor):
         # members add them in, so the pockets are shared among them like the contact's
         # queries.
         self.cur = ti.Vector.field(3, ti.i64, shape=nz)
-        self.torque = ti.field(ti.i64, shape=1)
+        self.torque = ti.field(ti.i64, shape=nm)
         self.acc = ti.Vector.field(3, ti.f64, shape=nz)
-        self.state = ti.field(ti.f64, shape=2)  # angle, speed
+        self.state = ti.field(ti.f64, shape=2 * nm)  # each member's angle, speed
         # friction and damping energy dissipated, per node (no shared sum)
         self.diss = ti.Vector.field(2, ti.f64, shape=nn)
         transfer.upload(
@@ -137,6 +147,7 @@ class RigidCage(ForceContributor):
                 (self.roller, np.concatenate(roller).astype(np.int32)),
                 (self.k, np.concatenate(kk)),
                 (self.angle0, np.asarray(pocket_angles, dtype=float)),
+                (self.pocket_member, pocket_member.astype(np.int32)),
             ]
         )
         self.n_samples = 0
@@ -148,20 +159,29 @@ class RigidCage(ForceContributor):
         params: ContactParameters,
         cage_mass: float,
         pocket_clearance: float,
-        start_speed: float = 0.0,
+        start_speed: float | Sequence[float] = 0.0,
     ) -> "RigidCage":
         """The cage of a bearing mesh (``mesh.info["cage"]``, rollers ``roller{j}``): a
         ring between the nominal inner and outer radii, ``I = m (r_i^2 + r_o^2) / 2``,
         pocket walls at roller radius + half the pocket clearance, turning at
-        ``start_speed`` (rad/s) at time 0 of a transient."""
+        ``start_speed`` (rad/s, one value or one per ensemble member) at time 0 of a
+        transient. An ensemble's model (a stacked mesh,
+        :func:`~taichi_bearing.mesh.stack.stack_meshes`) gets a cage per member, its
+        pockets where that member's mesh has them."""
+        from taichi_bearing.mesh.stack import member_name
+
         info = model.mesh.info
+        members = info.get("member_info", [info])
         cage = info["cage"]
-        angles = np.asarray(cage["pocket_angles"], dtype=float)
+        n = len(cage["pocket_angles"])
         r_i, r_o = float(cage["inner_radius"]), float(cage["outer_radius"])
+        names = [f"roller{j}" for j in range(n)]
+        if len(members) > 1:
+            names = [member_name(r, k) for k in range(len(members)) for r in names]
         return cls(
             model,
-            [f"roller{j}" for j in range(len(angles))],
-            angles,
+            names,
+            np.concatenate([np.asarray(m["cage"]["pocket_angles"], dtype=float) for m in members]),
             float(info["roller_radius"]) + 0.5 * pocket_clearance,
             r_i,
             r_o,
@@ -177,9 +197,12 @@ class RigidCage(ForceContributor):
         """This member's share of the pockets' directions this step; the sums restart."""
         j0, j1 = share(self.n_rollers, member, n_members)
         for j in range(j0, j1):
-            self._frame(j)
+            if self._on(self.pocket_member[j]):
+                self._frame(j)
         if member == 0:
-            self.torque[0] = ti.i64(0)
+            for k in range(self._members):
+                if self._on(k):
+                    self.torque[k] = ti.i64(0)
 
     @ti.func
     def step_share(self, member, n_members, x: ti.template(), v: ti.template(),
@@ -187,7 +210,8 @@ class RigidCage(ForceContributor):
         """This member's share of the rollers' surface nodes in the pockets."""
         n0, n1 = share(self.n_nodes, member, n_members)
         for n in range(n0, n1):
-            self._pocket(n, x, v, mass, f_ext, dt)
+            if self._on(self.pocket_member[self.roller[n]]):
+                self._pocket(n, x, v, mass, f_ext, dt)
 
     @ti.func
     def step_end(self, member, n_members, x: ti.template(), v: ti.template(),
@@ -196,24 +220,36 @@ class RigidCage(ForceContributor):
         cage's leapfrog step."""
         j0, j1 = share(self.n_rollers, member, n_members)
         for j in range(j0, j1):
-            self.acc[j] += force_at(self.cur, j)
+            if self._on(self.pocket_member[j]):
+                self.acc[j] += force_at(self.cur, j)
         if member == 0:
-            self._turn(dt, dt_v)
+            for k in range(self._members):
+                if self._on(k):
+                    self._turn(k, dt, dt_v)
+
+    @ti.func
+    def _on(self, k):
+        """Whether ensemble member ``k`` steps (always, for one model)."""
+        on = True
+        if ti.static(self._members > 1):
+            on = self.member_on[k] != 0
+        return on
 
     @ti.func
     def _frame(self, j):
         """Pocket j's radial direction this step; its force sum restarts."""
         self.cur[j] = ti.Vector.zero(ti.i64, 3)
-        phi = self.angle0[j] + self.state[0]
+        phi = self.angle0[j] + self.state[2 * self.pocket_member[j]]
         self.radial[j] = ti.Vector([ti.cos(phi), ti.sin(phi)])
 
     @ti.func
     def _pocket(self, n, x: ti.template(), v: ti.template(), mass: ti.template(),
                 f_ext: ti.template(), dt):  # fmt: skip
         """Pocket force on roller node n (none outside the pocket walls' reach)."""
-        w = self.state[1]
         i = self.node[n]
         j = self.roller[n]
+        own = self.pocket_member[j]  # its ensemble member
+        w = self.state[2 * own + 1]
         er = self.radial[j]
         et = ti.Vector([-er[1], er[0]])
         d = x[i] - ti.Vector([self._cx, self._cy])
@@ -250,18 +286,18 @@ class RigidCage(ForceContributor):
             add_force(f_ext, i, F)
             add_force(self.cur, j, ti.Vector([F[0], F[1], F.dot(et)]))
             # Reaction -F on the cage at d: torque d x (-F), N m.
-            add_force(self.torque, 0, -(d[0] * F[1] - d[1] * F[0]))
+            add_force(self.torque, own, -(d[0] * F[1] - d[1] * F[0]))
             self.ft[n] = ft
             self.et[n] = e_t
             self.en[n] = self.law.energy(k, pen)
             self.diss[n] += ti.Vector([e_fric, e_damp])
 
     @ti.func
-    def _turn(self, dt, dt_v):
-        """The cage's leapfrog step."""
-        w_new = self.state[1] + dt_v * force_at(self.torque, 0) / self.inertia
-        self.state[1] = w_new
-        self.state[0] = self.state[0] + dt * w_new
+    def _turn(self, k, dt, dt_v):
+        """Member ``k``'s cage's leapfrog step."""
+        w_new = self.state[2 * k + 1] + dt_v * force_at(self.torque, k) / self.inertia
+        self.state[2 * k + 1] = w_new
+        self.state[2 * k] = self.state[2 * k] + dt * w_new
 
     # ------------------------------------------------------------------ Python-side hooks
 
@@ -273,8 +309,10 @@ class RigidCage(ForceContributor):
         return self.node.to_numpy()[: self.n_nodes]
 
     def start(self, model: Model) -> None:
-        """Time 0 of a transient: angle 0 and the starting speed."""
-        self.set_state(angle=0.0, speed=self.start_speed)
+        """Time 0 of a transient: angle 0 and the starting speed (every member's)."""
+        state = np.zeros((self._members, 2))
+        state[:, 1] = self.start_speed
+        transfer.upload([(self.state, state.ravel())])
 
     # ------------------------------------------------------------------ state and read-out
 
@@ -311,6 +349,21 @@ class RigidCage(ForceContributor):
         """Cage kinetic energy plus the penalty energy stored at the pocket walls, J."""
         e = self.energies()
         return e["kinetic"] + e["elastic"]
+
+    def member_energies(self) -> np.ndarray:
+        """:meth:`energy` of each ensemble member's cage (its pocket nodes' sums in the
+        order its model alone sums them)."""
+        n = self.n_nodes
+        en, et, state = transfer.download((self.en, self.et, self.state))
+        owner = self.pocket_member.to_numpy()[self.roller.to_numpy()[:n]]
+        bounds = np.searchsorted(owner, np.arange(self._members + 1))
+        return np.array(
+            [
+                0.5 * self.inertia * float(state[2 * k + 1]) ** 2
+                + float(en[a:b].sum() + et[a:b].sum())
+                for k, (a, b) in enumerate(zip(bounds[:-1], bounds[1:], strict=True))
+            ]
+        )
 
     def energies(self) -> dict[str, float]:
         """``kinetic`` (I w^2 / 2), ``elastic`` (stored penalty), ``friction`` and

@@ -52,6 +52,7 @@ from taichi_bearing.solver.contact_search import (
     candidate,
     cell_xy,
     list_active,
+    member_cells,
     scan_blocks,
     surface_motion,
 )
@@ -109,6 +110,7 @@ class PenaltyContact(ForceContributor):
         if not pairs:
             raise ValueError("PenaltyContact needs at least one ContactPair")
         mesh = model.mesh
+        self.model_mesh_surfaces = mesh.surfaces
         self.params = params
         self.law = contact_law(params) if law is None else law
         self.pairs = list(pairs)
@@ -227,10 +229,15 @@ class PenaltyContact(ForceContributor):
         self.seg_corner = f(ti.i32, shape=nseg)  # bit 0: start (a) is a corner, bit 1: end
         self.track = f(ti.i32, shape=len(track))
         self.x_ref = v2(len(track))
-        self.cell_start = f(ti.i32, shape=g.n_cells + 1)
-        self.cell_fill = f(ti.i32, shape=g.n_cells)
+        # an ensemble's members each have a grid of their own (contact_search.member_cells)
+        self._members, self._member_nodes = model.ensemble_size, model.member_nodes
+        self._n_cells = n_cells = g.n_cells * self._members
+        self.member_on = model.member_on  # members held still are skipped
+        self.pair_member = f(ti.i32, shape=self.n_pairs)
+        self.cell_start = f(ti.i32, shape=n_cells + 1)
+        self.cell_fill = f(ti.i32, shape=n_cells)
         # running totals of blocks of cells and of queries (contact_search.SCAN_BLOCK)
-        self.cell_block = f(ti.i32, shape=scan_blocks(g.n_cells))
+        self.cell_block = f(ti.i32, shape=scan_blocks(n_cells))
         self.query_block = f(ti.i32, shape=scan_blocks(nq))
         self.cell_items = f(ti.i32, shape=self.cap)
         self.cell_surf = f(ti.i32, shape=self.cap)  # surface of each item (contiguous read)
@@ -275,6 +282,7 @@ class PenaltyContact(ForceContributor):
                 (self.seg_kappa, kappa),
                 (self.seg_corner, seg_corner),
                 (self.track, track),
+                (self.pair_member, self._pair_members(model).astype(np.int32)),
                 *transfer.constant((self.q_seg,), -1),
             ]
         )
@@ -296,6 +304,20 @@ class PenaltyContact(ForceContributor):
         self._kappa_max = float(np.max(np.abs(kappa)) + np.max(np.abs(q_kappa)))
         sagitta = float(np.max(np.abs(kappa) * lengths**2)) / 8.0
         self._activate_base = float(g.capture + g.margin) + sagitta
+
+    def _pair_members(self, model: Model) -> np.ndarray:
+        """The ensemble member of each pair (both its surfaces in one member)."""
+        surfaces = self.model_mesh_surfaces
+        return np.array(
+            [
+                model.member_of_nodes(
+                    np.concatenate(
+                        [surfaces[p.slave_surface].ravel(), surfaces[p.master_surface].ravel()]
+                    )  # fmt: skip
+                )
+                for p in self.pairs
+            ]
+        )
 
     def _pass_stiffness(self, k_seg: np.ndarray, k_query: np.ndarray, share: float):
         """The stiffness a pass's segments hold for the stable-step bound: their own, or
@@ -365,10 +387,12 @@ class PenaltyContact(ForceContributor):
         """Clear this member's share of the pairs' and the tracked nodes' forces."""
         p0, p1 = share(self.n_pairs, member, n_members)
         for p in range(p0, p1):
-            self.cur[p] = ti.Vector.zero(ti.i64, 4)
+            if self._pair_on(p):
+                self.cur[p] = ti.Vector.zero(ti.i64, 4)
         t0, t1 = share(self.n_track, member, n_members)
         for t in range(t0, t1):
-            self.node_force[self.track[t]] = ti.Vector.zero(ti.i64, 2)
+            if self._node_on(self.track[t]):
+                self.node_force[self.track[t]] = ti.Vector.zero(ti.i64, 2)
 
     @ti.func
     def step_share(self, member, n_members, x: ti.template(), v: ti.template(),
@@ -376,7 +400,8 @@ class PenaltyContact(ForceContributor):
         """This member's share of the listed queries."""
         q0, q1 = share(self.status[1], member, n_members)
         for qa in range(q0, q1):
-            self._query(qa, x, v, mass, f_ext, dt)
+            if self._node_on(self.q_node[self.q_active[qa]]):
+                self._query(qa, x, v, mass, f_ext, dt)
 
     @ti.func
     def step_end(self, member, n_members, x: ti.template(), v: ti.template(),
@@ -385,7 +410,25 @@ class PenaltyContact(ForceContributor):
         sums."""
         p0, p1 = share(self.n_pairs, member, n_members)
         for p in range(p0, p1):
-            self.acc[p] += force_at(self.cur, p)
+            if self._pair_on(p):
+                self.acc[p] += force_at(self.cur, p)
+
+    @ti.func
+    def _node_on(self, i):
+        """Whether node ``i``'s ensemble member steps (always, for one model): one held
+        still keeps its contact states and last forces."""
+        on = True
+        if ti.static(self._members > 1):
+            on = self.member_on[i // self._member_nodes] != 0
+        return on
+
+    @ti.func
+    def _pair_on(self, p):
+        """Whether pair ``p``'s ensemble member steps."""
+        on = True
+        if ti.static(self._members > 1):
+            on = self.member_on[self.pair_member[p]] != 0
+        return on
 
     @ti.func
     def _query(self, qa, x: ti.template(), v: ti.template(), mass: ti.template(),
@@ -396,7 +439,7 @@ class PenaltyContact(ForceContributor):
         S = self.q_surf[q]
         xp = x[i]
         cx, cy = cell_xy(self, xp)
-        c = cy * self._nx + cx
+        c = member_cells(self, i) + cy * self._nx + cx
         best = -1
         best_d2 = 1e300
         best_pen = 0.0
@@ -555,6 +598,15 @@ class PenaltyContact(ForceContributor):
     def energy(self) -> float:
         """Elastic energy stored in the penalty springs (normal + tangential), J."""
         return self.energies()["elastic"]
+
+    def member_energies(self) -> np.ndarray:
+        """:meth:`energy` of each ensemble member: the sums over its own queries, in the
+        order its model alone sums them."""
+        en, et = transfer.download((self.q_en, self.q_et))
+        owner = self.q_node_np // self._member_nodes
+        bounds = np.searchsorted(owner, np.arange(self._members + 1))
+        pairs = zip(bounds[:-1], bounds[1:], strict=True)
+        return np.array([float(en[a:b].sum() + et[a:b].sum()) for a, b in pairs])
 
     def energies(self) -> dict[str, float]:
         """``elastic`` (stored penalty energy), ``friction`` and ``damping`` (dissipated

@@ -13,6 +13,7 @@ __all__ = [
     "candidate",
     "cell_xy",
     "list_active",
+    "member_cells",
     "scan_blocks",
     "seg_cells",
     "surface_motion",
@@ -57,6 +58,17 @@ def cell_xy(c: ti.template(), p):
 
 
 @ti.func
+def member_cells(c: ti.template(), i):
+    """First cell of the grid of node ``i``'s ensemble member: each member has a grid of
+    its own (the members overlap in space; a shared grid would hold every member's
+    segments in each cell)."""
+    k = 0
+    if ti.static(c._members > 1):
+        k = i // c._member_nodes
+    return k * c._nx * c._ny
+
+
+@ti.func
 def seg_cells(c: ti.template(), x: ti.template(), s):
     """Cell range covered by segment s's bounding box grown by ``grow``."""
     a, b = x[c.seg_a[s]], x[c.seg_b[s]]
@@ -69,17 +81,18 @@ def seg_cells(c: ti.template(), x: ti.template(), s):
 def build_grid(c: ti.template(), x: ti.template()):
     """Bin every segment in the cells its box grown by capture depth + margin overlaps;
     remember the tracked nodes' positions (the reference of the next motion check)."""
-    nx, ny = c._nx, c._ny
-    for cell in range(nx * ny + 1):
+    nx = c._nx
+    n_cells = c._n_cells
+    for cell in range(n_cells + 1):
         c.cell_start[cell] = 0
     for s in range(c.n_seg):
         x0, y0, x1, y1 = seg_cells(c, x, s)
+        o = member_cells(c, c.seg_a[s])
         for cy in range(y0, y1 + 1):
             for cx in range(x0, x1 + 1):
-                ti.atomic_add(c.cell_start[cy * nx + cx + 1], 1)
+                ti.atomic_add(c.cell_start[o + cy * nx + cx + 1], 1)
     # cell_start[cell + 1] holds the cell's count: a running total makes it the next
     # cell's start
-    n_cells = nx * ny
     n_blocks = (n_cells + SCAN_BLOCK - 1) // SCAN_BLOCK
     for b in range(n_blocks):
         lo, hi = block_range(b, n_cells)
@@ -96,14 +109,15 @@ def build_grid(c: ti.template(), x: ti.template()):
         for cell in range(lo, hi):
             run += c.cell_start[cell + 1]
             c.cell_start[cell + 1] = run
-    for cell in range(nx * ny):
+    for cell in range(n_cells):
         c.cell_fill[cell] = c.cell_start[cell]
     c.status[0] = 0
     for s in range(c.n_seg):
         x0, y0, x1, y1 = seg_cells(c, x, s)
+        o = member_cells(c, c.seg_a[s])
         for cy in range(y0, y1 + 1):
             for cx in range(x0, x1 + 1):
-                k = ti.atomic_add(c.cell_fill[cy * nx + cx], 1)
+                k = ti.atomic_add(c.cell_fill[o + cy * nx + cx], 1)
                 if k < c.cap:
                     c.cell_items[k] = s
                     c.cell_surf[k] = c.seg_surf[s]
@@ -157,10 +171,11 @@ def list_active(c: ti.template(), x: ti.template()):
         hq = c.q_hmax[q]
         reach = c._activate_base + hq * (1.0 + 0.5 * c._kappa_max * hq)
         cx, cy = cell_xy(c, xp)
+        o = member_cells(c, i)
         near = 0
         for oy in range(ti.max(cy - 1, 0), ti.min(cy + 2, ny)):
             for ox in range(ti.max(cx - 1, 0), ti.min(cx + 2, nx)):
-                cell = oy * nx + ox
+                cell = o + oy * nx + ox
                 for k in range(c.cell_start[cell], c.cell_start[cell + 1]):
                     s, _, d2 = candidate(c, S, i, k, xp, x)
                     if s >= 0 and d2 <= reach * reach:

@@ -148,6 +148,11 @@ class ForceContributor:
         ``external_work``."""
         return 0.0
 
+    def member_energies(self) -> np.ndarray:
+        """:meth:`energy` of each member of an ensemble (one model: one value). A
+        contributor an ensemble uses overrides it."""
+        return np.array([self.energy()])
+
     def state_arrays(self) -> dict[str, np.ndarray]:
         """Everything needed to continue bit for bit after a resume. Default: every
         Taichi field and every plain int/float/bool attribute of the object."""

@@ -83,7 +83,8 @@ def element_forces(m: ti.template(), e, dt, damped: ti.template()):
     for k in ti.static(range(4)):
         m.fe[4 * e + k] = -at * (P @ ti.Vector([bx[k], by[k]])) + g[k] * fq
     if not F.determinant() > 0.0:
-        ti.atomic_min(m.bad_element[None], e)
+        k = e // m.member_elements  # its ensemble member's first
+        ti.atomic_min(m.bad_element[k], e - k * m.member_elements)
 
 
 @ti.kernel

@@ -14,6 +14,7 @@ import numpy as np
 import taichi as ti
 
 from taichi_bearing.case.material import Material
+from taichi_bearing.mesh.stack import member_layout
 from taichi_bearing.mesh.types import Mesh
 from taichi_bearing.solver import stepping, transfer
 from taichi_bearing.solver.backend import current_arch
@@ -98,6 +99,13 @@ class Model:
     material_law : ElementLaw, optional
         The elements' constitutive law (:mod:`taichi_bearing.solver.laws.material`);
         default St Venant-Kirchhoff.
+    members : int
+        Independent members of an ensemble (:mod:`taichi_bearing.solver.ensemble`) the
+        mesh holds one after another: member ``k`` owns nodes ``k nn .. (k+1) nn - 1`` and
+        elements ``k ne .. (k+1) ne - 1`` (``nn``, ``ne``: the mesh's counts over
+        ``members``), which touch no other member's nodes. Each has its own energies,
+        rigid plate, relaxation damping and first bad element, and can be held still
+        (:meth:`set_members_active`). Default 1: one model.
 
     Notes
     -----
@@ -126,6 +134,7 @@ class Model:
         time_step: str = "element",
         multirate_levels: int = 0,
         material_law: ElementLaw | None = None,
+        members: int = 1,
     ) -> None:
         if current_arch() is None:
             # Otherwise Taichi would start itself on a default arch with f32.
@@ -136,6 +145,7 @@ class Model:
         self.thickness = float(thickness)
         self.n_nodes = nn = mesh.n_nodes
         self.n_elements = ne = mesh.n_elements
+        self.ensemble_size, self.member_nodes, self.member_elements = member_layout(mesh, members)
         self.material_law = StVenantKirchhoff() if material_law is None else material_law
         el = element_data(
             mesh, materials, self.thickness, hourglass_scale, max_added_mass, damping,
@@ -197,11 +207,18 @@ class Model:
         self.history_key: tuple | None = None  # (dt, multi-rate) it was taken with
         self.jac = _scalar_field(ne)  # det F at the last recorded step
         self.von_mises = _scalar_field(ne)
-        self.bad_element = ti.field(ti.i32, shape=())
-        self.sums = ti.field(ti.f64, shape=6)
-        # the energy sums' partial sums by blocks of MEASURE_BLOCK nodes, then elements
-        self.n_node_blocks = -(-nn // MEASURE_BLOCK)
-        self.sum_parts = _vec_field(self.n_node_blocks + -(-ne // MEASURE_BLOCK), 3)
+        nm = self.ensemble_size
+        # each member's first element found inverted (member_elements: none)
+        self.bad_element = ti.field(ti.i32, shape=nm)
+        self.sums = ti.field(ti.f64, shape=6 * nm)
+        # the energy sums' partial sums, member by member: blocks of MEASURE_BLOCK of its
+        # nodes, then of its elements (the blocks of one model, whatever the members)
+        self.n_node_blocks = -(-self.member_nodes // MEASURE_BLOCK)
+        self.n_sum_blocks = self.n_node_blocks + -(-self.member_elements // MEASURE_BLOCK)
+        self.sum_parts = _vec_field(nm * self.n_sum_blocks, 3)
+        # per member: stepped (1) or held still (0), and its relaxation damping, 1/s
+        self.member_on = _scalar_field(nm, ti.i32)
+        self.relax_c = _scalar_field(nm)
         self.team = TeamState()
         # ---- multi-rate stepping (classes found at the first step, from the run's dt)
         if not 0 <= int(multirate_levels) <= MAX_LEVELS:
@@ -233,8 +250,9 @@ class Model:
             (self.lam, el.lam),
             (self.mu, el.mu),
             (self.beta_e, beta_e),
+            *transfer.constant((self.member_on,), 1),
         ]
-        self.bad_element[None] = ne
+        self.reset_bad_elements()
 
         self._setup_constraints(constraints)
         self._setup_loads(loads)
@@ -258,17 +276,39 @@ class Model:
     def _setup_constraints(self, constraints) -> None:
         bc, held, rgroup, rots, plates = constraint_tables(constraints, self.n_nodes)
         self.rotations = rots
+        # rigid plates: at most one per member, each within its member; a plate node
+        # knows its plate, plate p's nodes are plate_node[p * plate_size ...]
+        owner = [self.member_of_nodes(p.nodes) for p in plates]
+        if len(set(owner)) != len(owner):
+            raise ValueError("RigidPlate: at most one plate per model (per ensemble member)")
+        self.plates = plates
         self.plate = plates[0] if plates else None
-        self.n_plate = len(self.plate.nodes) if plates else 0
+        self.n_plates = npl = len(plates)
+        sizes = [len(p.nodes) for p in plates]
+        if len(set(sizes)) > 1:
+            raise ValueError("RigidPlate: an ensemble's plates must have the same node count")
+        # a plate's nodes, a compile-time count: its force sum's loop is compiled as for
+        # one model's plate (a loop with other bounds may sum in another order)
+        self.plate_size = sizes[0] if sizes else 0
+        self.n_plate = int(sum(sizes))
         self.plate_node = _scalar_field(self.n_plate, ti.i32)
-        self.plate_dir = ti.Vector.field(2, ti.f64, shape=())
+        self.plate_slot = _scalar_field(self.n_plate, ti.i32)  # plate of each slot
+        self.plate_id = _scalar_field(self.n_nodes, ti.i32)  # plate of a plate node
+        self.plate_dir = _vec_field(npl)
         # per plate node, its force along the plate's direction (summed by every plate
-        # node in one order), and the plate's velocity before the step
+        # node in one order), and each plate's velocity before the step
         self.plate_f = _scalar_field(self.n_plate)
-        self.plate_vo = ti.field(ti.f64, shape=())
+        self.plate_vo = _scalar_field(npl)
         if plates:
-            self._uploads.append((self.plate_node, self.plate.nodes.astype(np.int32)))
-            self.plate_dir[None] = self.plate.direction
+            plate_id = np.zeros(self.n_nodes, dtype=np.int32)
+            for k, p in enumerate(plates):
+                plate_id[p.nodes] = k
+            self._uploads += [
+                (self.plate_node, np.concatenate([p.nodes for p in plates]).astype(np.int32)),
+                (self.plate_slot, np.repeat(np.arange(npl), sizes).astype(np.int32)),
+                (self.plate_id, plate_id),
+                (self.plate_dir, np.array([p.direction for p in plates], dtype=float)),
+            ]
         self.bc_np = bc  # uploaded once the loads have added theirs
         self._uploads += [(self.held_dir, held), (self.rot_group, rgroup)]
         nr = len(rots)
@@ -311,6 +351,19 @@ class Model:
             self._uploads.append((self.sensor_node, ids))
         self.bc_np &= ~SENSOR
         self.bc_np[ids] |= SENSOR  # the node update stores their accelerations
+
+    def member_of_nodes(self, nodes) -> int:
+        """The ensemble member that owns every one of ``nodes``.
+
+        Raises
+        ------
+        ValueError
+            If they belong to more than one member.
+        """
+        owner = np.unique(np.asarray(nodes, dtype=np.int64) // self.member_nodes)
+        if len(owner) != 1:
+            raise ValueError(f"nodes of several ensemble members ({owner.tolist()}) in one set")
+        return int(owner[0])
 
     def part_nodes(self, part: str | int) -> np.ndarray:
         """Indices of the nodes of one part."""
@@ -472,7 +525,7 @@ class Model:
         n: int,
         record_last: bool = False,
         mode: str | None = None,
-        relax_damping: float | None = None,
+        relax_damping: float | Sequence[float] | None = None,
     ) -> None:
         """Take ``n`` steps (:func:`taichi_bearing.solver.stepping.advance`).
 
@@ -486,9 +539,10 @@ class Model:
             How the steps are launched (default: chosen for the backend, threads, mesh
             size and contributors; see :mod:`taichi_bearing.solver.stepping`). The
             results do not depend on it.
-        relax_damping : float, optional
-            Dynamic relaxation: mass-damping coefficient c (1/s); loads at full value,
-            prescribed rotations held at angle 0, time not advanced.
+        relax_damping : float or sequence of float, optional
+            Dynamic relaxation: mass-damping coefficient c (1/s), one per member of an
+            ensemble (or one for all); loads at full value, prescribed rotations held at
+            angle 0, time not advanced.
         """
         stepping.advance(self, n, record_last, mode, relax_damping)
 
@@ -497,17 +551,18 @@ class Model:
     def energies(self) -> dict[str, float]:
         """Energies at the last step run with ``record_last`` (J, for the thickness):
         kinetic, internal (strain), hourglass, damping (dissipated), external_work (done by
-        loads, constraints and contributors), and ``mass_u2`` = sum m |u|^2."""
+        loads, constraints and contributors), and ``mass_u2`` = sum m |u|^2. One model:
+        an ensemble's are :meth:`member_energies`."""
+        if self.ensemble_size != 1:
+            raise ValueError("an ensemble's energies are per member: member_energies()")
+        return self.member_energies()[0]
+
+    def member_energies(self) -> list[dict[str, float]]:
+        """:meth:`energies` of every ensemble member (one read-out for them all)."""
         measure_energies(self)
-        s = self.sums.to_numpy()
-        return {
-            "kinetic": float(s[0]),
-            "internal": float(s[1]),
-            "hourglass": float(s[2]),
-            "damping": float(s[3]),
-            "external_work": float(s[4]),
-            "mass_u2": float(s[5]),
-        }
+        s = self.sums.to_numpy().reshape(self.ensemble_size, 6)
+        keys = ("kinetic", "internal", "hourglass", "damping", "external_work", "mass_u2")
+        return [{key: float(v) for key, v in zip(keys, row, strict=True)} for row in s]
 
     def take_sensor_means(self, n_steps: int) -> np.ndarray:
         """Mean (ux, uy, vx, vy, ax, ay) of each sensor over the last ``n_steps`` steps
@@ -522,10 +577,28 @@ class Model:
         store_von_mises(self)
         return self.von_mises.to_numpy()[: self.n_elements]
 
-    def bad_element_index(self) -> int | None:
-        """First element found with det F <= 0 (or NaN) since the last reset, else None."""
-        e = int(self.bad_element[None])
-        return None if e >= self.n_elements else e
+    def bad_element_index(self, member: int | None = None) -> int | None:
+        """First element found with det F <= 0 (or NaN) since the last reset, else None:
+        of ``member``, or of the first member that has one (default)."""
+        bad = self.bad_element.to_numpy()
+        for k in range(self.ensemble_size) if member is None else (member,):
+            if bad[k] < self.member_elements:
+                return int(k * self.member_elements + bad[k])
+        return None
+
+    def reset_bad_elements(self) -> None:
+        """Forget the elements found inverted (:meth:`bad_element_index`)."""
+        self.bad_element.fill(self.member_elements)
+
+    def set_members_active(self, active) -> None:
+        """Which members the steps move (a sequence of bool, one per member): a member
+        held still keeps its positions, velocities and contact and cage states, as if
+        its steps had not been taken (an ensemble whose members stop relaxing at
+        different steps). Every member is active after construction."""
+        flags = np.asarray(active, dtype=np.int32).ravel()
+        if flags.shape != (self.ensemble_size,):
+            raise ValueError(f"set_members_active: one flag per member ({self.ensemble_size})")
+        transfer.upload([(self.member_on, flags)])
 
     def positions(self) -> np.ndarray:
         return self.x.to_numpy()[: self.n_nodes]

@@ -123,8 +123,6 @@ def constraint_tables(constraints: Sequence, nn: int):
     rgroup = np.full(nn, -1, dtype=np.int32)
     rots: list[PrescribedRotation] = []
     plates = [c for c in constraints if isinstance(c, RigidPlate)]
-    if len(plates) > 1:
-        raise ValueError("RigidPlate: at most one plate per model")
     for c in constraints:
         ids = np.asarray(c.nodes)
         if ids.min() < 0 or ids.max() >= nn:
@@ -143,8 +141,8 @@ def constraint_tables(constraints: Sequence, nn: int):
             rgroup[ids] = len(rots)
             rots.append(c)
         elif isinstance(c, RigidPlate):
-            if np.any(bc[ids] & (HELD | ROTATED)):
-                raise ValueError("RigidPlate: nodes already held or rotated")
+            if np.any(bc[ids] & (HELD | ROTATED | PLATE)):
+                raise ValueError("RigidPlate: nodes already held, rotated or on a plate")
             bc[ids] |= PLATE
         else:
             raise TypeError(f"unknown constraint {type(c).__name__}")

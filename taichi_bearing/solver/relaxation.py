@@ -15,17 +15,20 @@ from dataclasses import dataclass
 from taichi_bearing.errors import SimulationError
 from taichi_bearing.solver.model import Model
 
-__all__ = ["RelaxResult", "relax"]
+__all__ = ["RelaxResult", "relax", "relax_members"]
 
 
 @dataclass
 class RelaxResult:
-    """Outcome of :func:`relax`: steps taken, final KE / peak KE, and whether it converged."""
+    """Outcome of :func:`relax`: steps taken, final KE / peak KE, and whether it converged;
+    ``error``: why the member stopped (an ensemble's member that went unstable), else
+    empty."""
 
     steps: int
     ke_ratio: float
     converged: bool
     damping: float
+    error: str = ""
 
 
 def relax(
@@ -64,32 +67,75 @@ def relax(
     SimulationError
         If the energies stop being finite or an element inverts.
     """
+    (res,) = relax_members(model, ke_ratio_tol, max_steps, check_every, min_steps, progress)
+    if res.error:
+        raise SimulationError(res.error)
+    return res
+
+
+def relax_members(
+    model: Model,
+    ke_ratio_tol: float = 1e-5,
+    max_steps: int = 200_000,
+    check_every: int = 50,
+    min_steps: int = 200,
+    progress: Callable[[int, float], None] | None = None,
+) -> list[RelaxResult]:
+    """:func:`relax` for every member of an ensemble (one model: one member).
+
+    Each member relaxes as it would alone: its own damping from its own energies, its own
+    stop; a member that has stopped (converged, or gone unstable: ``error``) is held still
+    (:meth:`Model.set_members_active`) while the others go on. ``progress`` gets the
+    largest KE ratio of the members still relaxing. Afterwards every member is active,
+    at rest, its accounting restarted.
+    """
+    nm = model.ensemble_size
     model.restart_accounting()
     model.set_state(v=model.velocities() * 0.0)
-    ke_peak, ratio, c, steps = 0.0, math.inf, 0.0, 0
+    ke_peak = [0.0] * nm
+    ratio = [math.inf] * nm
+    c = [0.0] * nm
+    done = [0] * nm  # steps at the member's stop, 0 while it relaxes
+    errors = [""] * nm
     c_max = 1.0 / model.dt  # keeps (1 - c dt / 2) > 0
-    while steps < max_steps:
+    steps = 0
+    while steps < max_steps and not all(done):
         n = min(check_every, max_steps - steps)
-        model.advance(n, record_last=True, relax_damping=c)
+        model.advance(n, record_last=True, relax_damping=c if nm > 1 else c[0])
         steps += n
-        e = model.energies()
-        ke = e["kinetic"]
-        if not math.isfinite(ke) or model.bad_element_index() is not None:
-            bad = model.bad_element_index()
-            raise SimulationError(
-                f"dynamic relaxation step {steps}: "
-                + (f"element {bad} inverted" if bad is not None else "energy not finite")
-                + "; likely cause: load too large for the mesh or too few constraints"
-            )
-        ke_peak = max(ke_peak, ke)
-        if e["mass_u2"] > 0:
-            omega2 = 2.0 * (e["internal"] + e["hourglass"]) / e["mass_u2"]
-            c = min(2.0 * math.sqrt(max(omega2, 0.0)), c_max)
-        ratio = ke / ke_peak if ke_peak > 0 else math.inf
+        energies = model.member_energies()
+        for k, e in enumerate(energies):
+            if done[k]:
+                continue
+            ke = e["kinetic"]
+            bad = model.bad_element_index(k)
+            if not math.isfinite(ke) or bad is not None:
+                errors[k] = (
+                    f"dynamic relaxation step {steps}: "
+                    + (f"element {bad} inverted" if bad is not None else "energy not finite")
+                    + "; likely cause: load too large for the mesh or too few constraints"
+                )
+                done[k] = steps
+                continue
+            ke_peak[k] = max(ke_peak[k], ke)
+            if e["mass_u2"] > 0:
+                omega2 = 2.0 * (e["internal"] + e["hourglass"]) / e["mass_u2"]
+                c[k] = min(2.0 * math.sqrt(max(omega2, 0.0)), c_max)
+            ratio[k] = ke / ke_peak[k] if ke_peak[k] > 0 else math.inf
+            if steps >= min_steps and ratio[k] < ke_ratio_tol:
+                done[k] = steps
         if progress is not None:
-            progress(steps, ratio)
-        if steps >= min_steps and ratio < ke_ratio_tol:
-            break
+            progress(steps, max(r for r, d in zip(ratio, done, strict=True) if not d)
+                     if not all(done) else max(ratio))  # fmt: skip
+        if nm > 1 and any(done) and not all(done):
+            model.set_members_active([not d for d in done])
+    if nm > 1:
+        model.set_members_active([True] * nm)
     model.set_state(v=model.velocities() * 0.0)
     model.restart_accounting()
-    return RelaxResult(steps, ratio, ratio < ke_ratio_tol, c)
+    return [
+        RelaxResult(
+            done[k] or steps, ratio[k], ratio[k] < ke_ratio_tol and not errors[k], c[k], errors[k]
+        )  # fmt: skip
+        for k in range(nm)
+    ]

@@ -143,10 +143,14 @@ def step_phase(m: ti.template(), phase: ti.template(), member, n_members: ti.tem
     if ti.static(phase == NODES):
         i0, i1 = share(m.n_nodes, member, n_members)
         for i in range(i0, i1):
-            if ti.static(m.multirate_levels == 0):
-                node_update(m, i, t_rot, dt, dt_v, first, c_mass, rec)
+            if ti.static(m.ensemble_size == 1):
+                node_step(m, i, t_rot, dt, dt_v, first, c_mass, rec, moving)
             else:
-                node_multirate(m, i, t_rot, dt, dt_v, first, c_mass, rec, moving)
+                # an ensemble: each member its own relaxation damping; one held still
+                # keeps its state (its elements' and contributors' forces go unused)
+                k = i // m.member_nodes
+                if m.member_on[k] != 0:
+                    node_step(m, i, t_rot, dt, dt_v, first, m.relax_c[k], rec, moving)
     if ti.static(phase == SENSORS):
         for s in range(m.n_sensor):
             sensor_sum(m, s, dt, dt_v, first)
@@ -183,32 +187,33 @@ def apply_loads(m: ti.template(), t_load, member, n_members: ti.template()):
 
 @ti.func
 def plate_forces(m: ti.template(), member, n_members: ti.template()):
-    """Each plate node's force along the plate (element forces gathered as the node
-    update does, plus loads and contributors), this member's share; member 0 keeps the
+    """Each plate node's force along its plate (element forces gathered as the node
+    update does, plus loads and contributors), this member's share; member 0 keeps each
     plate's velocity before the step."""
     if ti.static(m.n_plate > 0):
-        d = m.plate_dir[None]
         k0, k1 = share(m.n_plate, member, n_members)
         for k in range(k0, k1):
             i = m.plate_node[k]
             f = force_at(m.f_extra, i) + m.f_load[i]
             for s in range(m.adj_ptr[i], m.adj_ptr[i + 1]):
                 f += m.fe[m.adj[s]]
-            m.plate_f[k] = f.dot(d)
+            m.plate_f[k] = f.dot(m.plate_dir[m.plate_slot[k]])
         if member == 0:
-            m.plate_vo[None] = m.v[m.plate_node[0]].dot(d)
+            for p in range(m.n_plates):
+                m.plate_vo[p] = m.v[m.plate_node[p * m.plate_size]].dot(m.plate_dir[p])
 
 
 @ti.func
-def plate_velocity(m: ti.template(), dt_v, c_mass):
-    """The rigid plate's one velocity: its total force along its direction over its total
-    mass, summed in one order (each plate node computes it alike)."""
+def plate_velocity(m: ti.template(), p, dt_v, c_mass):
+    """Rigid plate ``p``'s one velocity: its total force along its direction over its
+    total mass, summed in one order (each of its nodes computes it alike)."""
     f_sum = 0.0
     m_sum = 0.0
-    for k in range(m.n_plate):
-        f_sum += m.plate_f[k]
-        m_sum += m.mass[m.plate_node[k]]
-    vo = m.plate_vo[None]
+    base = p * m.plate_size
+    for j in range(m.plate_size):
+        f_sum += m.plate_f[base + j]
+        m_sum += m.mass[m.plate_node[base + j]]
+    vo = m.plate_vo[p]
     vn = vo + dt_v * f_sum / m_sum
     if c_mass > 0.0:
         vn = ((1.0 - 0.5 * c_mass * dt_v) * vo + dt_v * f_sum / m_sum) / (1.0 + 0.5 * c_mass * dt_v)
@@ -253,7 +258,8 @@ def node_update(m: ti.template(), i, t_rot, dt, dt_v, first, c_mass, rec):
         d = m.held_dir[i]
         vn -= vn.dot(d) * d
     if flag & PLATE:
-        vn = plate_velocity(m, dt_v, c_mass) * m.plate_dir[None]
+        p = m.plate_id[i]
+        vn = plate_velocity(m, p, dt_v, c_mass) * m.plate_dir[p]
     xn = xo + dt * vn
     if flag & ROTATED:
         g = m.rot_group[i]
@@ -285,6 +291,15 @@ def node_update(m: ti.template(), i, t_rot, dt, dt_v, first, c_mass, rec):
     m.v[i] = vn
     if flag & SENSOR:  # only the sensors read it
         m.a[i] = an
+
+
+@ti.func
+def node_step(m: ti.template(), i, t_rot, dt, dt_v, first, c_mass, rec, moving):
+    """Node ``i``'s update at this step, single-rate or multi-rate."""
+    if ti.static(m.multirate_levels == 0):
+        node_update(m, i, t_rot, dt, dt_v, first, c_mass, rec)
+    else:
+        node_multirate(m, i, t_rot, dt, dt_v, first, c_mass, rec, moving)
 
 
 @ti.func

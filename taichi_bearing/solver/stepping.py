@@ -25,10 +25,11 @@ A chunk ends where a contributor asks for Python again (the contact's search-gri
 # No `from __future__ import annotations`: Taichi reads kernel annotations at definition.
 import os
 
+import numpy as np
 import taichi as ti
 
 from taichi_bearing.errors import InputError
-from taichi_bearing.solver import backend
+from taichi_bearing.solver import backend, transfer
 from taichi_bearing.solver.backend import (
     current_arch,
     current_threads,
@@ -284,7 +285,7 @@ def choose_mode(model, mode: str | None = None) -> str:
 
 
 def advance(model, n: int, record_last: bool = False, mode: str | None = None,
-            relax_damping: float | None = None) -> None:  # fmt: skip
+            relax_damping=None) -> None:  # fmt: skip
     """Take ``n`` steps of ``model`` (see :meth:`Model.advance`)."""
     if n <= 0:
         return
@@ -301,7 +302,7 @@ def advance(model, n: int, record_last: bool = False, mode: str | None = None,
     model.prepare_step_classes()
     relax = relax_damping is not None
     _seed_history(model, relax)
-    c_mass = float(relax_damping) if relax else 0.0
+    c_mass = _relax_damping(model, relax_damping)
     dt, damped = model.dt, int(model.damped)
     contributors = model.kernel_contributors
     if mode != "parallel":
@@ -378,6 +379,24 @@ def advance_phases(model, n: int, p0: int, p1: int, n_members: int = 1) -> None:
     _seed_history(model, False)
     _k_chunk(model, n, model.step_count, model.dt, 0, 0.0, 0, 0, int(model.damped),
              n_members, p0, p1)  # fmt: skip
+
+
+def _relax_damping(model, relax_damping) -> float:
+    """The relaxation damping the kernels take (0: none). An ensemble's members each read
+    their own from ``model.relax_c`` (uploaded here when it changes; zeros outside a
+    relaxation), so the kernels' argument is 0 for them."""
+    if model.ensemble_size == 1:
+        if relax_damping is None:
+            return 0.0
+        c = np.asarray(relax_damping, dtype=float).ravel()
+        return float(c[0])
+    c = np.zeros(model.ensemble_size)
+    if relax_damping is not None:
+        c = np.broadcast_to(np.asarray(relax_damping, dtype=float), c.shape).copy()
+    if not np.array_equal(c, getattr(model, "_relax_c_set", None)):
+        transfer.upload([(model.relax_c, c)])
+        model._relax_c_set = c
+    return 0.0
 
 
 def _seed_history(model, relax: bool) -> None:

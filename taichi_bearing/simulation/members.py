@@ -1,0 +1,84 @@
+"""An ensemble member seen as a model of its own, for the recorders.
+
+The history recorders (:mod:`taichi_bearing.simulation.recorders`) read a model's
+positions and velocities, a contact's sample means and a cage's angle and speed. In an
+ensemble those are read back once per output sample for every member together
+(:class:`EnsembleSample`) and each member's recorders get views of its share, so that a
+member records exactly what its case run alone records.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+__all__ = ["EnsembleSample", "MemberCage", "MemberContact", "MemberModel"]
+
+
+class EnsembleSample:
+    """What one output sample reads back from an ensemble's model, once for all members:
+    positions, velocities, the contact's pair means and the cages' states (each read on
+    first use after :meth:`refresh`)."""
+
+    def __init__(self, model, contact, cage) -> None:
+        self.model, self.contact, self.cage = model, contact, cage
+        self._cache: dict[str, np.ndarray] = {}
+
+    def refresh(self) -> None:
+        """Forget the last sample's values (before the members' recorders read)."""
+        self._cache.clear()
+
+    def get(self, what: str) -> np.ndarray:
+        if what not in self._cache:
+            read = {
+                "x": self.model.positions,
+                "v": self.model.velocities,
+                "pairs": self.contact.pop_sample_means,
+                "cage": lambda: self.cage.state.to_numpy(),
+            }[what]
+            self._cache[what] = read()
+        return self._cache[what]
+
+
+class MemberModel:
+    """Member ``k``'s nodes of the sample's positions and velocities, and the time."""
+
+    def __init__(self, sample: EnsembleSample, k: int) -> None:
+        self.sample, self.k = sample, k
+        n = sample.model.member_nodes
+        self._nodes = slice(k * n, (k + 1) * n)
+
+    @property
+    def time(self) -> float:
+        return self.sample.model.time
+
+    def positions(self) -> np.ndarray:
+        return self.sample.get("x")[self._nodes]
+
+    def velocities(self) -> np.ndarray:
+        return self.sample.get("v")[self._nodes]
+
+
+class MemberContact:
+    """Member ``k``'s contact pairs' sample means (its pair table counts from 0)."""
+
+    def __init__(self, sample: EnsembleSample, k: int, n_pairs: int) -> None:
+        self.sample = sample
+        self._pairs = slice(k * n_pairs, (k + 1) * n_pairs)
+
+    def pop_sample_means(self) -> np.ndarray:
+        return self.sample.get("pairs")[self._pairs]
+
+
+class MemberCage:
+    """Member ``k``'s cage angle and speed."""
+
+    def __init__(self, sample: EnsembleSample, k: int) -> None:
+        self.sample, self.k = sample, k
+
+    @property
+    def angle(self) -> float:
+        return float(self.sample.get("cage")[2 * self.k])
+
+    @property
+    def speed(self) -> float:
+        return float(self.sample.get("cage")[2 * self.k + 1])
