@@ -12,7 +12,8 @@ The package:
 - :mod:`.schema`: how a key is declared (:func:`~.schema.key`), checked and converted;
 - :mod:`.sections` and :mod:`.material`: every section and key, declared once;
 - :mod:`.load`: reading the file, ``--set`` overrides, :func:`parse_case`;
-- :mod:`.validate`: checks across keys (geometry, defect, time step, sensors);
+- :mod:`.validate`: checks across keys (geometry, operating point, defect, time step,
+  sensors);
 - :mod:`.reference`: the case-file reference, ``docs/case_reference.md``.
 
 Errors are raised as :class:`CaseError` naming the dotted key path (e.g.
@@ -46,7 +47,12 @@ from taichi_bearing.case.sections import (
     Run,
     Sensor,
 )
-from taichi_bearing.case.validate import ExtendedDefectWarning, stable_step_estimate
+from taichi_bearing.case.validate import (
+    ContactPressureWarning,
+    ExtendedDefectWarning,
+    SpallReachWarning,
+    stable_step_estimate,
+)
 from taichi_bearing.errors import CaseError, CaseWarning
 
 __all__ = [
@@ -57,6 +63,7 @@ __all__ = [
     "CaseError",
     "CaseWarning",
     "Contact",
+    "ContactPressureWarning",
     "Damping",
     "Defect",
     "ExtendedDefectWarning",
@@ -67,6 +74,7 @@ __all__ = [
     "Preload",
     "Run",
     "Sensor",
+    "SpallReachWarning",
     "apply_overrides",
     "case_to_dict",
     "load_case",

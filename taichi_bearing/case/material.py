@@ -67,3 +67,8 @@ class Material:
     def wave_speed(self) -> float:
         """Plane-strain dilatational wave speed sqrt((lambda + 2 mu) / rho), m/s."""
         return math.sqrt((self.lam + 2.0 * self.mu) / self.density)
+
+    @property
+    def shear_wave_speed(self) -> float:
+        """Shear wave speed sqrt(mu / rho), m/s (the Rayleigh wave: 7 % slower at nu 0.3)."""
+        return math.sqrt(self.mu / self.density)

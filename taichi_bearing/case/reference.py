@@ -11,7 +11,15 @@ from pathlib import Path
 
 from taichi_bearing.case.schema import UNITS, Key, Section, section_keys
 from taichi_bearing.case.sections import SECTIONS, SENSOR_KEYS, Case, Sensor
-from taichi_bearing.case.validate import MAX_WAVE_SPEED, SENSOR_REACH, STEP_FLOOR
+from taichi_bearing.case.validate import (
+    DEPTH_REACH_FACTOR,
+    MAX_PRESSURE_RATIO,
+    MAX_SURFACE_SPEED_RATIO,
+    MAX_WAVE_SPEED,
+    SENSOR_REACH,
+    STATIC_CAPACITY_PRESSURE,
+    STEP_FLOOR,
+)
 
 __all__ = ["render_reference", "main"]
 
@@ -110,6 +118,15 @@ def _checks() -> list[str]:
         "- the defect is not a line spall: zero length or depth with a race, half the ring "
         "thick or more, longer than half the raceway (longer than the roller spacing is "
         "accepted with a warning: an extended defect);",
+        "- no bearing runs at its operating point: the inner raceway's surface speed "
+        f"exceeds {100 * MAX_SURFACE_SPEED_RATIO:g} % of the material's shear wave speed "
+        "(`operating.speed_rpm`), or the Hertz peak pressure of the most loaded roller "
+        "(healthy bearing, rigid rings, Stribeck's load: exact at zero clearance, a lower "
+        f"bound otherwise) exceeds E/{1 / MAX_PRESSURE_RATIO:g} (`operating.load_kN`). "
+        f"Above {STATIC_CAPACITY_PRESSURE / 1e9:g} GPa, a roller bearing's static capacity "
+        "(ISO 76), the case loads with a warning, as it does with a spall more than "
+        f"{DEPTH_REACH_FACTOR:g} times deeper than a rigid roller drops into it (its floor "
+        "never touched);",
         "- `contact.friction_dynamic` exceeds `contact.friction_static`; "
         "`mesh.surface_size_mm` exceeds `mesh.max_size_mm` or a quarter of the roller "
         "diameter; `run.frame_interval_ms` exceeds `run.duration_ms`; fewer than two "
