@@ -1,4 +1,5 @@
-"""Input validation shared by every public function of ``diagnostics``.
+"""Input validation shared by every public function of ``diagnostics``, and the record's
+scale (:func:`normalise`, :class:`RecordScale`) every estimator goes through.
 
 Each check raises ``ValueError`` with a one-line message naming the offending argument, so a
 user sees what to fix without reading a traceback.
@@ -7,6 +8,7 @@ user sees what to fix without reading a traceback.
 from __future__ import annotations
 
 import math
+from dataclasses import dataclass
 from numbers import Real
 
 import numpy as np
@@ -126,7 +128,8 @@ def check_varying(x: np.ndarray, name: str = "x") -> np.ndarray:
     """
     arr = np.asarray(x)
     flat = arr.reshape(-1, arr.shape[-1]) if arr.ndim > 1 else arr[None, :]
-    constant = np.flatnonzero(np.ptp(flat, axis=-1) == 0.0)
+    # max == min rather than a range of zero: the range of a record near 1e308 overflows
+    constant = np.flatnonzero(flat.max(axis=-1) == flat.min(axis=-1))
     if constant.size:
         where = "" if arr.ndim <= 1 else f" (channel {int(constant[0])})"
         raise ValueError(
@@ -134,6 +137,120 @@ def check_varying(x: np.ndarray, name: str = "x") -> np.ndarray:
             "a dead sensor or a flat record holds no vibration to analyse"
         )
     return x
+
+
+# A record is analysed as given where each channel's largest magnitude lies in
+# 2**-64 .. 2**64, which holds every unit a vibration record comes in (g, m/s^2, mV, counts
+# of a 32-bit converter, metres): its results stay what they were, bit for bit. Beyond, the
+# squares and fourth powers the estimators form would overflow or underflow, and the channel
+# is rescaled first (frexp exponents: a peak m * 2**e, 0.5 <= m < 1).
+_MIN_EXPONENT, _MAX_EXPONENT = -63, 64
+
+
+@dataclass(frozen=True, eq=False)
+class RecordScale:
+    """The powers of two a record's channels were divided by (:func:`normalise`).
+
+    Attributes
+    ----------
+    exponent : numpy.ndarray
+        Integer exponent ``e`` of each channel (shape: the channel axes, then 1), the
+        channel divided by ``2**e``; 0 for a channel analysed as given.
+    """
+
+    exponent: np.ndarray
+
+    @property
+    def identity(self) -> bool:
+        """Whether every channel was analysed as given."""
+        return not self.exponent.any()
+
+    def restore(self, y, power: int = 1, what: str = "the result", trailing: int = 1):
+        """``y``, computed from the rescaled record, in the record's own unit.
+
+        Multiplying by ``2**(power * e)`` is exact: it adds no rounding to the result, and
+        leaves an untouched record's result as it is.
+
+        Parameters
+        ----------
+        y : numpy.ndarray
+            Real or complex result: the channel axes first, then ``trailing`` axes of its
+            own.
+        power : int
+            Power of the record's unit the result carries (1: an amplitude, 2: a power).
+        what : str
+            What ``y`` is, for the error message.
+        trailing : int
+            Number of axes of ``y`` after the channel axes.
+
+        Raises
+        ------
+        ValueError
+            If a channel's result, in the record's unit, lies outside the range of float64
+            (its largest value would overflow, or fall below the smallest normal number).
+        """
+        if self.identity:
+            return y
+        e = power * self.exponent.reshape(self.exponent.shape[:-1] + (1,) * trailing)
+        y = np.asarray(y)
+        parts = (y.real, y.imag) if np.iscomplexobj(y) else (y,)
+        out = np.empty_like(y)
+        restored = (out.real, out.imag) if np.iscomplexobj(y) else (out,)
+        axes = tuple(range(-trailing, 0))
+        peak = np.zeros(e.shape)
+        for part, into in zip(parts, restored, strict=True):
+            with np.errstate(over="ignore", under="ignore"):
+                into[...] = np.ldexp(part, e)
+            peak = np.maximum(peak, np.max(np.abs(part), axis=axes, keepdims=True))
+        with np.errstate(over="ignore", under="ignore"):
+            reached = np.ldexp(peak, e)
+        bad = ~np.isfinite(reached) | ((peak > 0.0) & (reached < np.finfo(float).tiny))
+        if bad.any():
+            i = np.flatnonzero(bad)[0]
+            decade = math.log10(float(peak.flat[i])) + int(e.flat[i]) * math.log10(2.0)
+            unit = "larger" if decade > 0 else "smaller"
+            raise ValueError(
+                f"{what} is out of the range of float64 numbers (it would reach 1e{decade:+.0f}"
+                f"): give x in a {unit} unit"
+            )
+        return out
+
+    def decibels(self, power: int = 2) -> np.ndarray | float:
+        """``10 log10(2**(power * e))`` per channel: what a level in dB of a result
+        carrying ``power`` of the record's unit gains back (0.0 for an untouched record)."""
+        if self.identity:
+            return 0.0
+        return 10.0 * power * math.log10(2.0) * self.exponent
+
+
+def normalise(x: np.ndarray) -> tuple[np.ndarray, RecordScale]:
+    """``x`` (time axis last) ready for an estimator, and the scale to restore results by.
+
+    Every estimator of ``diagnostics`` goes through this, so that a record's unit does not
+    change a result: each channel whose largest magnitude lies outside ``2**-64 ..
+    2**64`` is divided by the power of two that brings it into ``[0.5, 1)`` (exact in
+    floating point, so quantities without a unit, such as kurtosis, p-values, frequencies
+    and verdicts, come out as from any other power-of-two scaling of the record, and
+    amplitudes restored by :meth:`RecordScale.restore` bit for bit). Other channels are
+    left as they are.
+
+    Parameters
+    ----------
+    x : numpy.ndarray
+        Checked record (see :func:`check_signals`), samples along the last axis.
+
+    Returns
+    -------
+    x : numpy.ndarray
+        The record, rescaled where needed (``x`` itself where no channel is).
+    scale : RecordScale
+        The power of two of each channel.
+    """
+    peak = np.max(np.abs(x), axis=-1, keepdims=True)
+    exponent = np.frexp(peak)[1]  # 0 for an all-zero channel: left as it is
+    outside = (exponent < _MIN_EXPONENT) | (exponent > _MAX_EXPONENT)
+    scale = RecordScale(np.where(outside, exponent, 0))
+    return (x if scale.identity else np.ldexp(x, -scale.exponent)), scale
 
 
 def check_frequency(f: float, fs: float, name: str = "f") -> float:

@@ -13,6 +13,7 @@ from dataclasses import dataclass, field
 import numpy as np
 from scipy import ndimage
 
+from diagnostics._checks import check_signal, normalise
 from diagnostics._envelope import envelope
 from diagnostics._evidence import (
     _SUPPORT_P,
@@ -243,6 +244,7 @@ def normalised_envelope_spectrum(
     Randall, R. B. and Antoni, J. (2011). Rolling element bearing diagnostics: a tutorial.
     *Mechanical Systems and Signal Processing* 25(2), 485-520.
     """
+    y, _ = normalise(check_signal(y, fs))  # z and m have no unit
     sq = envelope(y, fs, band=band) ** 2
     mean_sq = float(sq.mean())
     spectrum = np.fft.rfft(sq - mean_sq)

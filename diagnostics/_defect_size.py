@@ -15,7 +15,13 @@ import numpy as np
 from scipy import signal
 
 from diagnostics._bands import kurtogram_band
-from diagnostics._checks import check_band, check_bearing_inputs, check_positive, check_signal
+from diagnostics._checks import (
+    check_band,
+    check_bearing_inputs,
+    check_positive,
+    check_signal,
+    normalise,
+)
 from diagnostics._envelope import envelope
 from diagnostics._filters import lowpass_filter
 from diagnostics._frequencies import BearingGeometry, bearing_frequencies
@@ -321,6 +327,7 @@ def estimate_defect_size(
     freqs = bearing_frequencies(geometry, shaft_hz)
     period = 1.0 / (freqs.bpfo if race == "outer" else freqs.bpfi)
     x = check_signal(x, fs, min_length=int(math.ceil(period * fs)))
+    x, _ = normalise(x)  # event times have no unit
 
     if exit_band is None:
         # Everything above the lower edge of the kurtogram's best band: the impulsive band

@@ -25,6 +25,7 @@ from diagnostics._checks import (
     check_positive_int,
     check_signal,
     check_varying,
+    normalise,
 )
 from diagnostics._comb import (
     _BACKGROUND_FRACTION,
@@ -347,7 +348,7 @@ def diagnose(
     if np.ndim(shaft_hz) == 0:
         return _diagnose_steady(x, fs, geometry, shaft_hz, **options)
     fs = check_positive(fs, "fs", unit=" in Hz")
-    x = check_varying(check_signal(x, fs))
+    x, _ = normalise(check_varying(check_signal(x, fs)))  # a verdict has no unit
     rate = check_speed_profile(shaft_hz, x.size)
     if np.ptp(rate) <= 0.5 * check_positive(slip, "slip") * float(rate.mean()):
         return _diagnose_steady(x, fs, geometry, float(rate.mean()), **options)
@@ -464,7 +465,7 @@ def _diagnose_steady(
         raise ValueError(
             f"fs = {fs:g} Hz is too low for these fault frequencies (up to {f_high:.4g} Hz)"
         )
-    x = check_varying(check_signal(x, fs))
+    x, _ = normalise(check_varying(check_signal(x, fs)))  # a verdict has no unit
     min_len = int(math.ceil(20.0 * fs / f_low + 2 * taper * fs))
     if x.size < min_len:
         raise ValueError(

@@ -8,20 +8,21 @@ from __future__ import annotations
 import numpy as np
 from scipy import signal
 
-from diagnostics._checks import check_signals
+from diagnostics._checks import RecordScale, check_signals, normalise
 from diagnostics._filters import bandpass_filter
 
 
-def _band_limited(x, fs: float, band, axis: int) -> np.ndarray:
-    """The signal (band-passed when a band is given) with its time axis last."""
-    data = check_signals(x, fs, axis)
-    if band is None:
-        return data
-    try:
-        f_lo, f_hi = band
-    except (TypeError, ValueError):
-        raise ValueError(f"band must be a pair (f_lo, f_hi) in Hz, got {band!r}") from None
-    return bandpass_filter(data, fs, f_lo, f_hi)
+def _scaled_envelope(x, fs: float, band, axis: int) -> tuple[np.ndarray, RecordScale]:
+    """The envelope of the record rescaled by :func:`diagnostics._checks.normalise` (band-
+    passed first when a band is given), time axis last, and that scale."""
+    data, scale = normalise(check_signals(x, fs, axis))
+    if band is not None:
+        try:
+            f_lo, f_hi = band
+        except (TypeError, ValueError):
+            raise ValueError(f"band must be a pair (f_lo, f_hi) in Hz, got {band!r}") from None
+        data = bandpass_filter(data, fs, f_lo, f_hi)
+    return np.abs(signal.hilbert(data, axis=-1)), scale
 
 
 def envelope(x, fs: float, band=None, axis: int = -1) -> np.ndarray:
@@ -62,7 +63,8 @@ def envelope(x, fs: float, band=None, axis: int = -1) -> np.ndarray:
     >>> round(float(env[1600]), 3), round(float(env[2000]), 3)     # 1 + 0.5 cos(...)
     (1.5, 0.5)
     """
-    y = np.abs(signal.hilbert(_band_limited(x, fs, band, axis), axis=-1))
+    env, scale = _scaled_envelope(x, fs, band, axis)
+    y = scale.restore(env, what="the envelope")
     return y if y.ndim == 1 else np.moveaxis(y, -1, axis)
 
 
@@ -95,7 +97,9 @@ def envelope_spectrum(x, fs: float, band=None, squared: bool = True, axis: int =
     Raises
     ------
     ValueError
-        On an invalid signal, ``fs``, band or axis.
+        On an invalid signal, ``fs``, band or axis, or (squared) a spectrum outside the
+        range of float64 numbers in the record's unit squared (a record of values near
+        1e300 or 1e-300): give ``x`` in another unit.
 
     References
     ----------
@@ -111,8 +115,7 @@ def envelope_spectrum(x, fs: float, band=None, squared: bool = True, axis: int =
     >>> float(f[np.argmax(amp)]), round(float(amp.max()), 3)  # modulation 10 Hz, depth 0.5
     (10.0, 0.5)
     """
-    env = envelope(x, fs, band, axis=axis)
-    env = np.moveaxis(env, axis, -1) if env.ndim > 1 else env
+    env, scale = _scaled_envelope(x, fs, band, axis)
     if squared:
         env = env**2
     env = env - env.mean(axis=-1, keepdims=True)
@@ -120,5 +123,9 @@ def envelope_spectrum(x, fs: float, band=None, squared: bool = True, axis: int =
     amplitude = np.abs(np.fft.rfft(env, axis=-1)) / n
     # One-sided: every bin except DC (and Nyquist for even n) carries half the power.
     amplitude[..., 1 : (n + 1) // 2] *= 2.0
+    # The squared envelope carries the square of the record's unit.
+    amplitude = scale.restore(
+        amplitude, power=2 if squared else 1, what="the envelope spectrum of x"
+    )
     f = np.fft.rfftfreq(n, d=1.0 / fs)
     return f, (amplitude if amplitude.ndim == 1 else np.moveaxis(amplitude, -1, axis))

@@ -15,6 +15,7 @@ from diagnostics._checks import (
     check_positive,
     check_positive_int,
     check_signals,
+    normalise,
 )
 
 
@@ -68,15 +69,17 @@ def notch_filter(x, fs: float, f0: float, Q: float = 30.0, axis: int = -1) -> np
     Q = check_positive(Q, "Q")
     b, a = signal.iirnotch(f0, Q, fs=fs)
     padlen = _padlen(max(len(a), len(b)))
-    data = check_signals(x, fs, axis, min_length=padlen + 1)
-    return _time_axis_back(signal.filtfilt(b, a, data, axis=-1, padlen=padlen), axis)
+    data, scale = normalise(check_signals(x, fs, axis, min_length=padlen + 1))
+    y = signal.filtfilt(b, a, data, axis=-1, padlen=padlen)
+    return _time_axis_back(scale.restore(y, what="the filtered signal"), axis)
 
 
 def _sos_filtfilt(x, fs: float, sos: np.ndarray, axis: int) -> np.ndarray:
     # sosfiltfilt pads by 3 * (2 * n_sections + 1) samples at each end.
     padlen = _padlen(2 * len(sos) + 1)
-    data = check_signals(x, fs, axis, min_length=padlen + 1)
-    return _time_axis_back(signal.sosfiltfilt(sos, data, axis=-1, padlen=padlen), axis)
+    data, scale = normalise(check_signals(x, fs, axis, min_length=padlen + 1))
+    y = signal.sosfiltfilt(sos, data, axis=-1, padlen=padlen)
+    return _time_axis_back(scale.restore(y, what="the filtered signal"), axis)
 
 
 def bandpass_filter(

@@ -19,7 +19,7 @@ import numpy as np
 from scipy import fft as sp_fft
 from scipy import signal
 
-from diagnostics._checks import check_positive, check_positive_int, check_signal
+from diagnostics._checks import check_positive, check_positive_int, check_signal, normalise
 
 _EPS = np.finfo(float).eps
 # Antoni's generating filters: a 16th-order fir1 half-band low-pass (cut-off 0.4 of Nyquist)
@@ -125,12 +125,13 @@ def _alternating_sign(n: int) -> np.ndarray:
     return np.tile([-1.0, 1.0], (n + 1) // 2)[:n]
 
 
-def _band_kurtosis(bands: np.ndarray) -> np.ndarray:
+def _band_kurtosis(bands: np.ndarray, floor: float) -> np.ndarray:
     """Kurtosis of the complex envelope of each row, as Antoni's 'kurt2' computes it.
 
     The mean is removed first; the result is ``mean|c|^4 / mean(|c|^2)^2 - 2`` for complex
-    rows (``- 3`` for a real row), and 0 where the band power is below machine epsilon
-    (an absolute threshold, as in the reference).
+    rows (``- 3`` for a real row), and 0 where the band power is below ``floor`` (the
+    reference's machine epsilon, here times the record's mean square: see
+    :func:`_kurtosis_statistic`).
     """
     centred = bands - bands.mean(axis=1, keepdims=True)
     if np.iscomplexobj(centred):
@@ -144,7 +145,7 @@ def _band_kurtosis(bands: np.ndarray) -> np.ndarray:
     fourth = np.einsum("ij,ij->i", power, power) / power.shape[1]
     with np.errstate(divide="ignore", invalid="ignore"):
         value = fourth / energy**2 - gaussian
-    return np.where(energy < _EPS, 0.0, value)
+    return np.where(energy < floor, 0.0, value)
 
 
 @dataclass(frozen=True, eq=False)
@@ -232,9 +233,9 @@ def kurtogram(x, fs: float, nlevel: int = 7) -> Kurtogram:
     Returns
     -------
     Kurtogram
-        The map and the best band. Band power is compared with machine epsilon in absolute
-        terms, as in the reference, so give signals in units where they are not tiny
-        (e.g. m/s^2 or g, not metres).
+        The map and the best band. A band whose power is below machine epsilon times the
+        record's mean square counts as empty (kurtosis 0); the reference compares band
+        power with machine epsilon itself, which made the map depend on the record's unit.
 
     Raises
     ------
@@ -248,7 +249,7 @@ def kurtogram(x, fs: float, nlevel: int = 7) -> Kurtogram:
     faults. *Mechanical Systems and Signal Processing* 21(1), 108-124.
     """
     x, nlevel = _tree_input(x, fs, nlevel, "a kurtogram")
-    (K,) = _kurtogram_map(x, nlevel, (_kurtosis_statistic,))
+    (K,) = _kurtogram_map(x, nlevel, (_kurtosis_statistic(x),))
     return _best_band(K, float(fs), nlevel)
 
 
@@ -361,14 +362,14 @@ def kurtogram_and_infogram(
     """
     x, nlevel = _tree_input(x, fs, nlevel, "a kurtogram")
     statistic = _negentropy_statistic(float(fs), cyclic_range, shaft_hz)
-    K, N = _kurtogram_map(x, nlevel, (_kurtosis_statistic, statistic))
+    K, N = _kurtogram_map(x, nlevel, (_kurtosis_statistic(x), statistic))
     return _best_band(K, float(fs), nlevel), _best_band(N, float(fs), nlevel, Infogram)
 
 
 def _tree_input(x, fs: float, nlevel: int, what: str) -> tuple[np.ndarray, int]:
     """The checked, centred signal and level count of a band map."""
     nlevel = check_positive_int(nlevel, "nlevel")
-    x = check_signal(x, fs)
+    x, _ = normalise(check_signal(x, fs))  # the maps have no unit
     if x.size < 2 ** (nlevel + 7):
         # The reference's limit: log2(len(x)) - 7 levels at most.
         raise ValueError(
@@ -423,8 +424,17 @@ def _kurtogram_map(x: np.ndarray, nlevel: int, statistics) -> list[np.ndarray]:
     return maps
 
 
-def _kurtosis_statistic(rows: np.ndarray, decimation: int) -> np.ndarray:
-    return _band_kurtosis(rows)
+def _kurtosis_statistic(x: np.ndarray):
+    """The band statistic of :func:`kurtogram` on the centred record ``x``:
+    :func:`_band_kurtosis`, a band empty where its power is below machine epsilon times the
+    record's mean square (a threshold relative to the record, so that its unit does not
+    change the map)."""
+    floor = _EPS * float(np.mean(np.square(x)))
+
+    def statistic(rows: np.ndarray, decimation: int) -> np.ndarray:
+        return _band_kurtosis(rows, floor)
+
+    return statistic
 
 
 # Fewer cyclic frequencies than this leave a band's negentropy unscored (0).

@@ -10,7 +10,7 @@ import numpy as np
 from scipy import fft as sp_fft
 from scipy import signal
 
-from diagnostics._checks import check_signals, check_varying
+from diagnostics._checks import check_signals, check_varying, normalise
 
 __all__ = ["prewhiten"]
 
@@ -79,7 +79,8 @@ def prewhiten(x, fs: float, taper_s: float = _TAPER_S, axis: int = -1) -> np.nda
     >>> bool(spec.max() < 3 * np.median(spec))
     True
     """
-    x = check_varying(check_signals(x, fs, axis=axis, min_length=16))
+    # The result has unit variance whatever the record's unit.
+    x, _ = normalise(check_varying(check_signals(x, fs, axis=axis, min_length=16)))
     size = x.shape[-1]
     m = int(min(round(taper_s * fs), 0.05 * size))
     # Drop a few samples so that this and every later FFT has a fast (5-smooth) length.

@@ -11,7 +11,7 @@ from dataclasses import dataclass, field
 import numpy as np
 from scipy import signal
 
-from diagnostics._checks import check_positive_int, check_signals
+from diagnostics._checks import check_positive_int, check_signals, normalise
 
 __all__ = ["Separation", "discrete_random_separation"]
 
@@ -124,6 +124,7 @@ def discrete_random_separation(
             f"x is too short for discrete/random separation: {x.size} samples, need at least "
             f"{8 * nfft + delay} (eight blocks of {nfft} and the delay; lower nfft)"
         )
+    x, scale = normalise(x)  # the parts are restored to x's unit, the coherence has none
     x0 = x - x.mean()
     hop = nfft // 4
     window = signal.get_window("hann", nfft)
@@ -135,7 +136,8 @@ def discrete_random_separation(
     auto = np.sum(np.abs(D) ** 2, axis=0)
     gain = np.abs(cross) / np.maximum(auto, np.finfo(float).tiny * nfft)
     discrete = _filter_blocks(x0, gain, window, hop) + x.mean()
-    return Separation(discrete, x - discrete, np.fft.rfftfreq(nfft, 1.0 / fs), gain)
+    parts = (scale.restore(part, what="a part of x") for part in (discrete, x - discrete))
+    return Separation(*parts, np.fft.rfftfreq(nfft, 1.0 / fs), gain)
 
 
 def _filter_blocks(x: np.ndarray, gain: np.ndarray, window: np.ndarray, hop: int) -> np.ndarray:

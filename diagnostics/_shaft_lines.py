@@ -17,6 +17,7 @@ from diagnostics._checks import (
     check_positive_int,
     check_signal,
     check_varying,
+    normalise,
 )
 
 __all__ = ["ShaftLines", "shaft_lines", "speed_check"]
@@ -190,7 +191,7 @@ def speed_check(
 
 def _check_steady_record(x, fs, shaft_hz) -> tuple[np.ndarray, float, float]:
     fs = check_positive(fs, "fs", unit=" in Hz")
-    x = check_varying(check_signal(x, fs))
+    x, _ = normalise(check_varying(check_signal(x, fs)))  # lines stand out in any unit
     return x, fs, check_positive(shaft_hz, "shaft_hz", unit=" in Hz")
 
 

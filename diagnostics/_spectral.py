@@ -9,7 +9,13 @@ import math
 import numpy as np
 from scipy import signal
 
-from diagnostics._checks import check_fs, check_positive, check_positive_int, check_signals
+from diagnostics._checks import (
+    check_fs,
+    check_positive,
+    check_positive_int,
+    check_signals,
+    normalise,
+)
 
 # IEC 61260-1 base-ten band ratio: centres 1000 * 10**(k/10), edges at centre * 10**(+-1/20).
 _OCTAVE_RATIO_EXPONENT = 0.1
@@ -68,7 +74,7 @@ def stft(
     ((2, 33, 31), 125.0, 1.5)
     """
     nperseg = check_positive_int(nperseg, "nperseg", minimum=2)
-    x = check_signals(x, fs, axis, min_length=nperseg)
+    x, scale = normalise(check_signals(x, fs, axis, min_length=nperseg))
     if noverlap is None:
         noverlap = nperseg // 2
     noverlap = check_positive_int(noverlap, "noverlap", minimum=0)
@@ -78,7 +84,7 @@ def stft(
         signal.get_window(window, nperseg)
     except (ValueError, TypeError) as exc:
         raise ValueError(f"window {window!r} is not a valid window: {exc}") from None
-    return signal.stft(
+    f, t, Z = signal.stft(
         x,
         fs=fs,
         window=window,
@@ -88,6 +94,7 @@ def stft(
         padded=False,
         axis=-1,
     )
+    return f, t, scale.restore(Z, what="the STFT of x", trailing=2)
 
 
 def _frequency_axis_back(y: np.ndarray, axis: int) -> np.ndarray:
@@ -120,7 +127,9 @@ def psd(x, fs: float, nperseg: int = 4096, axis: int = -1):
     Raises
     ------
     ValueError
-        On an invalid signal, ``fs`` or axis, or a segment longer than the signal.
+        On an invalid signal, ``fs`` or axis, a segment longer than the signal, or a PSD
+        outside the range of float64 numbers in the record's unit squared (a record of
+        values near 1e300 or 1e-300): give ``x`` in another unit.
 
     References
     ----------
@@ -136,9 +145,9 @@ def psd(x, fs: float, nperseg: int = 4096, axis: int = -1):
     array([1., 4.])
     """
     nperseg = check_positive_int(nperseg, "nperseg", minimum=2)
-    data = check_signals(x, fs, axis, min_length=nperseg)
+    data, scale = normalise(check_signals(x, fs, axis, min_length=nperseg))
     f, p = signal.welch(data, fs=fs, window="hann", nperseg=nperseg, scaling="density", axis=-1)
-    return f, _frequency_axis_back(p, axis)
+    return f, _frequency_axis_back(scale.restore(p, power=2, what="the PSD of x"), axis)
 
 
 def third_octave_centres(f_min: float, f_max: float) -> np.ndarray:
@@ -229,7 +238,7 @@ def third_octave(
     ([794.3, 1000.0, 1258.9], -3.01)
     """
     fs = check_fs(fs)
-    x = check_signals(x, fs, axis, min_length=2)
+    x, scale = normalise(check_signals(x, fs, axis, min_length=2))
     ref = check_positive(ref, "ref")
     nyquist = fs / 2.0
     f_max = nyquist if f_max is None else check_positive(f_max, "f_max")
@@ -248,6 +257,8 @@ def third_octave(
     band_power = _band_powers(x, fs, fc)
     with np.errstate(divide="ignore"):
         level_db = 10.0 * np.log10(band_power / ref**2)
+    # In dB the record's rescaling is an offset, which no level overflows.
+    level_db = level_db + scale.decibels(power=2)
     return fc, _frequency_axis_back(level_db, axis)
 
 

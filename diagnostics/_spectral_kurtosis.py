@@ -8,7 +8,7 @@ from __future__ import annotations
 import numpy as np
 from scipy import signal, stats
 
-from diagnostics._checks import check_positive_int, check_signals
+from diagnostics._checks import check_positive_int, check_signals, normalise
 
 __all__ = ["SpectralKurtosis", "sk_threshold", "spectral_kurtosis"]
 
@@ -122,7 +122,7 @@ def spectral_kurtosis(x, fs: float, nw: int = 256, axis: int = -1) -> SpectralKu
     (-1.0, True)
     """
     nw = check_positive_int(nw, "nw", minimum=4)
-    x = check_signals(x, fs, axis, min_length=2 * nw)
+    x, _ = normalise(check_signals(x, fs, axis, min_length=2 * nw))  # SK has no unit
     hop = nw // 2
     frames = np.lib.stride_tricks.sliding_window_view(x, nw, axis=-1)[..., ::hop, :]
     window = signal.get_window("hann", nw)

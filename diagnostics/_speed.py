@@ -23,6 +23,7 @@ from diagnostics._checks import (
     check_signal,
     check_signals,
     check_varying,
+    normalise,
 )
 
 __all__ = ["OrderTrack", "check_speed_profile", "order_track", "shaft_angle", "speed_from_tacho"]
@@ -142,18 +143,24 @@ def speed_from_tacho(
     x = check_varying(check_signal(tacho, fs, name="tacho"), "tacho")
     fs = float(fs)
     ppr = check_positive_int(pulses_per_rev, "pulses_per_rev")
+    given = threshold
+    if given is not None:
+        given = float(given)
+        if not (x.min() < given < x.max()):
+            raise ValueError(
+                f"threshold {given:g} is outside the tacho signal's range "
+                f"({x.min():g} .. {x.max():g})"
+            )
+    # The edges are where the signal crosses a level: in any unit, at the same samples.
+    x, scale = normalise(x)
     low, high = np.percentile(x, [1.0, 99.0])
     if high <= low:  # pulses narrower than 1 % of the record
         low, high = float(x.min()), float(x.max())
-    if threshold is None:
+    if given is None:
         threshold = 0.5 * (low + high)
+        given = float(np.ldexp(threshold, scale.exponent.item()))  # for the message
     else:
-        threshold = float(threshold)
-        if not (x.min() < threshold < x.max()):
-            raise ValueError(
-                f"threshold {threshold:g} is outside the tacho signal's range "
-                f"({x.min():g} .. {x.max():g})"
-            )
+        threshold = float(np.ldexp(given, -scale.exponent.item()))
     # Hysteresis (a Schmitt trigger): a pulse starts where the signal rises above the upper
     # level after it was last below the lower one, so noise near the threshold cannot make
     # a pulse of its own. The band narrows where a given threshold lies near either end.
@@ -172,7 +179,7 @@ def speed_from_tacho(
     edges = edges[(edges >= 0) & (edges < x.size - 1)]
     if edges.size < 3:
         raise ValueError(
-            f"tacho holds {edges.size} rising edge(s) through {threshold:g}; need at least 3 "
+            f"tacho holds {edges.size} rising edge(s) through {given:g}; need at least 3 "
             "(check the channel, threshold and pulses_per_rev)"
         )
     a, b = x[edges], x[edges + 1]
@@ -285,7 +292,7 @@ def order_track(x, fs: float, shaft_hz, samples_per_rev: float, *, axis: int = -
     3.0
     """
     fs = check_positive(fs, "fs", unit=" in Hz")
-    data = check_signals(x, fs, axis)
+    data, scale = normalise(check_signals(x, fs, axis))
     n = data.shape[-1]
     rate = np.asarray(shaft_hz, dtype=np.float64)
     if rate.ndim == 0:
@@ -309,7 +316,7 @@ def order_track(x, fs: float, shaft_hz, samples_per_rev: float, *, axis: int = -
     targets = np.arange(0.0, angle[-1], 1.0 / spr)
     times = np.interp(targets, angle, np.arange(n) / fs)
     spline = interpolate.make_interp_spline(angle, data, k=3, axis=-1)
-    resampled = spline(targets)
+    resampled = scale.restore(spline(targets), what="the order-tracked record")
     resampled = resampled if resampled.ndim == 1 else np.moveaxis(resampled, -1, axis)
     # Orders held everywhere in the record: up to the filter's cut-off (if any) and the
     # record's own band at its fastest.

@@ -15,6 +15,7 @@ from diagnostics._checks import (
     check_positive_int,
     check_signal,
     check_varying,
+    normalise,
 )
 
 __all__ = ["SpeedEstimate", "estimate_speed"]
@@ -140,7 +141,7 @@ def estimate_speed(
     >>> est.confidence > 0.9
     True
     """
-    x = check_varying(check_signal(x, fs))
+    x, _ = normalise(check_varying(check_signal(x, fs)))  # a rate has no unit
     fs = float(fs)
     f_min = check_positive(f_min, "f_min", unit=" in Hz")
     f_max = check_positive(f_max, "f_max", unit=" in Hz")

@@ -15,7 +15,7 @@ import numpy as np
 from matplotlib.axes import Axes
 from matplotlib.figure import Figure
 
-from diagnostics._checks import check_signal
+from diagnostics._checks import check_signal, normalise
 from diagnostics._filters import notch_filter
 from diagnostics._frequencies import FaultFrequencies
 from diagnostics._kurtosis import Kurtogram
@@ -82,9 +82,12 @@ def plot_time_trace(x, fs: float, events=None, ax: Axes | None = None, unit: str
     ax : matplotlib.axes.Axes, optional
         Axes to draw into.
     unit : str
-        Unit of ``x`` for the y label.
+        Unit of ``x`` for the y label. A record of values near 1e300 or 1e-300 is drawn
+        in a unit ``10**k`` times it, which the label names.
     """
-    x = check_signal(x, fs)
+    x, decade = _in_decimal_unit(check_signal(x, fs))
+    if decade:
+        unit = f"1e{decade} {unit or 'unit'}"
     fig, ax = _axes(ax)
     ax.plot(np.arange(x.size) / fs, x, lw=0.6, color="tab:blue")
     _mark_events(ax, events)
@@ -284,12 +287,17 @@ def plot_psd_notch(
     nperseg: int = 4096,
     ax: Axes | None = None,
 ) -> Figure:
-    """Welch PSD before and after notching each frequency in ``notch_hz``."""
-    y = check_signal(x, fs)
+    """Welch PSD before and after notching each frequency in ``notch_hz``.
+
+    A record whose squares would leave the range of float64 (values near 1e300 or 1e-300)
+    is drawn in a unit ``10**k`` times its own, which the y label names.
+    """
+    raw, decade = _in_decimal_unit(check_signal(x, fs))
+    y = raw
     for f0 in notch_hz:
         y = notch_filter(y, fs, f0, Q=Q)
     nperseg = min(nperseg, y.size)
-    f, before = psd(x, fs, nperseg=nperseg)
+    f, before = psd(raw, fs, nperseg=nperseg)
     _, after = psd(y, fs, nperseg=nperseg)
     fig, ax = _axes(ax)
     tiny = np.finfo(float).tiny
@@ -298,13 +306,26 @@ def plot_psd_notch(
     for f0 in notch_hz:
         ax.axvline(f0, color="tab:red", lw=0.6, ls=":")
     ax.set_xlabel("frequency (Hz)")
-    ax.set_ylabel("PSD (unit^2/Hz)")
+    ax.set_ylabel("PSD (unit^2/Hz)" if decade == 0 else f"PSD ((1e{decade} unit)^2/Hz)")
     ax.set_title(
         "PSD before and after notch"
         + (f" ({', '.join(f'{v:g}' for v in notch_hz)} Hz)" if len(notch_hz) else "")
     )
     ax.legend(fontsize="small")
     return fig
+
+
+def _in_decimal_unit(x: np.ndarray) -> tuple[np.ndarray, int]:
+    """``(x, 0)``, or for a record whose squares would leave float64 (one that
+    :func:`diagnostics._checks.normalise` rescales) ``x`` in a unit ``10**k`` times its own,
+    and ``k``."""
+    rescaled, scale = normalise(x)
+    if scale.identity:
+        return x, 0
+    # x = rescaled * 2**e = rescaled * 10**(e log10 2): keep the decade k in the unit.
+    exponent = scale.exponent.item() * math.log10(2.0)
+    decade = round(exponent)
+    return rescaled * 10.0 ** (exponent - decade), decade
 
 
 def plot_third_octave(

@@ -192,7 +192,7 @@ def check_record_fits(sig, geometry: BearingGeometry, shaft_hz: float, fs_given:
 
     source = "--fs" if fs_given else f"the file's rate of {sig.fs:g} Hz"
     where = f"{sig.meta.get('path', '')}:{sig.name}"
-    if np.ptp(sig.x) == 0.0:
+    if sig.x.max() == sig.x.min():  # (a range of a record near 1e308 overflows)
         raise UsageError(
             f"{where} is constant (every sample {sig.x[0]:g}): a dead sensor or a flat "
             "record, nothing to diagnose; choose another --channel"

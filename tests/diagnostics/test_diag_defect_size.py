@@ -7,6 +7,7 @@ import math
 
 import numpy as np
 import pytest
+from synthetic_records import spall_record
 
 from diagnostics import (
     BearingGeometry,
@@ -19,39 +20,6 @@ from diagnostics import (
 GEOMETRY = BearingGeometry(9, 7.94e-3, 39.04e-3)
 SHAFT_HZ = 29.95
 RADIUS = 0.5 * GEOMETRY.roller_diameter
-
-
-def spall_record(
-    fs: float,
-    separation_s: float,
-    duration_s: float = 1.0,
-    noise: float = 0.1,
-    seed: int = 0,
-    race_rate_hz: float | None = None,
-) -> tuple[np.ndarray, np.ndarray]:
-    """Acceleration of repeated passages over a spall, and the true exit times.
-
-    Entry: the load is released, a downward step ringing at a 600 Hz mode. Exit, a time
-    ``separation_s`` later: an impact ringing a 12 kHz resonance, and the load step back up.
-    Passages repeat at ``race_rate_hz`` (default BPFO) with 0.3 % random period jitter.
-    """
-    rng = np.random.default_rng(seed)
-    rate = race_rate_hz or bearing_frequencies(GEOMETRY, SHAFT_HZ).bpfo
-    t = np.arange(int(duration_s * fs)) / fs
-    x = np.zeros_like(t)
-    exits = []
-    te = 0.5 / rate
-    while te < duration_s - 0.02:
-        exits.append(te)
-        te += (1.0 + 0.003 * rng.standard_normal()) / rate
-    w_low = 2 * np.pi * 600.0
-    for te in exits:
-        for t0, sign in ((te - separation_s, -1.0), (te, 1.0)):
-            tt = t[t >= t0] - t0
-            x[t >= t0] += sign * np.exp(-0.3 * w_low * tt) * np.cos(w_low * tt)
-        tt = t[t >= te] - te
-        x[t >= te] += 3.0 * np.exp(-tt / 2e-4) * np.sin(2 * np.pi * 12000.0 * tt)
-    return x + noise * rng.standard_normal(t.size), np.asarray(exits)
 
 
 def test_contact_travel_per_passage_is_the_roller_pitch_on_the_race():
