@@ -383,6 +383,9 @@ def simulate(
         f"factor {model.damping_step_factor:.3f}, {_mass_scaling_text(model, mesh)}"
     )
 
+    # The preload steps at the transient's step (fitted to the sample interval): an
+    # ensemble's members, whose stable steps differ in the last bits, then share it.
+    model.set_dt(fitted_step(model, case))
     if resume:
         pre_path = out / PRELOAD_FILE
         if latest_checkpoint(out / CHECKPOINTS_DIR) is None or not pre_path.is_file():
