@@ -46,6 +46,17 @@ def add_pool_arguments(parser: argparse.ArgumentParser) -> None:
         help="no per-run figures and report (the study's own outputs are made)",
     )
     parser.add_argument("--quiet", action="store_true", help="no progress bar")
+    parser.add_argument(
+        "--ensemble",
+        type=int,
+        default=1,
+        metavar="N",
+        help="step the cases N at a time as one model (an ensemble: the same kernel "
+        "launches for all, what keeps a GPU busy); they must share a mesh (they may differ "
+        "in run.first_roller_angle_deg, operating.load_kN, operating.speed_rpm); each "
+        "run's folder and histories are those of the case run alone (default 1: each case "
+        "on its own)",
+    )
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -77,6 +88,8 @@ def check_pool_arguments(args: argparse.Namespace) -> None:
         raise InputError(f"--threads: must be >= 1, got {args.threads}")
     if args.scheduler is not None and args.workers is not None:
         raise InputError("--workers: not used with --scheduler (the cluster has its workers)")
+    if args.ensemble < 1:
+        raise InputError(f"--ensemble: must be >= 1, got {args.ensemble}")
 
 
 def study_folder(args: argparse.Namespace, prefix: str) -> Path:
@@ -97,9 +110,12 @@ def run_study(args: argparse.Namespace, axes: list, out: Path, *, scale_duration
     check_pool_arguments(args)
     cells = make_cells(args.case, axes, out, args.overrides, scale_duration=scale_duration,
                        threads=args.threads, post=not args.no_post)  # fmt: skip
+    from taichi_bearing.studies.ensemble_task import check_groups, group_cells
+
+    check_groups(group_cells(cells, args.ensemble))  # cells that cannot share a model
     output_folder(out)  # once the cases are valid: a refused study makes no folder
     results = run_sweep(cells, workers=args.workers, scheduler=args.scheduler,
-                        progress=not args.quiet)  # fmt: skip
+                        progress=not args.quiet, ensemble=args.ensemble)  # fmt: skip
     return cells, results
 
 

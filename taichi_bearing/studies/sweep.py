@@ -165,6 +165,7 @@ def run_sweep(
     scheduler: str | object | None = None,
     progress: bool = True,
     on_result: Callable[[CellResult], None] | None = None,
+    ensemble: int = 1,
 ) -> list[CellResult]:
     """Run the cells not yet finished; return one result per cell, in the cells' order.
 
@@ -181,6 +182,10 @@ def run_sweep(
         A progress bar over cases.
     on_result : callable, optional
         Called with each result as it arrives.
+    ensemble : int
+        Cells stepped together as one model (:mod:`taichi_bearing.studies.ensemble_task`),
+        in groups of this many, in order; 1 (default): each cell on its own. The cells of a
+        group must be able to share one model (checked before anything runs).
 
     Returns
     -------
@@ -207,28 +212,43 @@ def run_sweep(
             on_result(r)
 
     if todo:
+        from taichi_bearing.studies.ensemble_task import check_groups, group_cells
+
+        groups = group_cells(todo, ensemble)
+        check_groups(groups)
         if scheduler is not None:
-            _run_dask(todo, scheduler, done)
+            _run_dask(groups, scheduler, done)
         else:
-            _run_pool(todo, workers, done)
+            _run_pool(groups, workers, done)
     bar.close()
     return [results[c.out_dir] for c in cells]
 
 
-def _run_pool(cells: list[SweepCell], workers: int | None, done) -> None:
+def _task(group: list[SweepCell]) -> list[CellResult]:
+    """One task: a cell on its own, or a group of cells as one ensemble."""
+    if len(group) == 1:
+        return [run_cell(group[0])]
+    from taichi_bearing.studies.ensemble_task import run_group
+
+    return run_group(group)
+
+
+def _run_pool(groups: list[list[SweepCell]], workers: int | None, done) -> None:
     import multiprocessing as mp
     from concurrent.futures import ProcessPoolExecutor, as_completed
 
-    n = max(1, min(workers or os.cpu_count() or 1, len(cells)))
+    n = max(1, min(workers or os.cpu_count() or 1, len(groups)))
     threads = local_threads(n)
-    cells = [c if c.threads is not None else _with_threads(c, threads) for c in cells]
+    groups = [[c if c.threads is not None else _with_threads(c, threads) for c in g]
+              for g in groups]  # fmt: skip
     with ProcessPoolExecutor(max_workers=n, mp_context=mp.get_context("spawn")) as pool:
-        futures = {pool.submit(run_cell, c): c for c in cells}
+        futures = {pool.submit(_task, g): g for g in groups}
         for fut in as_completed(futures):
-            done(_outcome(fut, futures[fut]))
+            for r in _outcome(fut, futures[fut]):
+                done(r)
 
 
-def _run_dask(cells: list[SweepCell], scheduler, done) -> None:
+def _run_dask(groups: list[list[SweepCell]], scheduler, done) -> None:
     try:
         from distributed import Client, as_completed
     except ImportError:
@@ -243,13 +263,15 @@ def _run_dask(cells: list[SweepCell], scheduler, done) -> None:
         raise InputError(f"--scheduler: cannot reach {scheduler} ({exc})") from None
     try:
         threads = _dask_threads(client)
-        cells = [c if c.threads is not None else _with_threads(c, threads) for c in cells]
+        groups = [[c if c.threads is not None else _with_threads(c, threads) for c in g]
+                  for g in groups]  # fmt: skip
         # a fresh key per submission: a rerun of a failed cell is a new task, not the
         # cluster's remembered result
-        futures = {client.submit(run_cell, c, key=f"sweep-{c.name}-{uuid.uuid4().hex}"): c
-                   for c in cells}  # fmt: skip
+        futures = {client.submit(_task, g, key=f"sweep-{g[0].name}-{uuid.uuid4().hex}"): g
+                   for g in groups}  # fmt: skip
         for fut in as_completed(list(futures)):
-            done(_outcome(fut, futures[fut]))
+            for r in _outcome(fut, futures[fut]):
+                done(r)
     finally:
         if own:
             client.close()
@@ -261,11 +283,15 @@ def _with_threads(cell: SweepCell, threads: int) -> SweepCell:
     return dataclasses.replace(cell, threads=threads)
 
 
-def _outcome(fut, cell: SweepCell) -> CellResult:
-    """The future's result, or a failed result naming the exception (a lost worker)."""
+def _outcome(fut, group: list[SweepCell]) -> list[CellResult]:
+    """The future's results, or a failed result per cell naming the exception (a lost
+    worker)."""
     try:
         return fut.result()
     except Exception as exc:  # noqa: BLE001 - one lost case must not stop the sweep
-        r = _result(cell, "failed")
-        r.error = f"{type(exc).__name__}: {exc}"
-        return r
+        out = []
+        for cell in group:
+            r = _result(cell, "failed")
+            r.error = f"{type(exc).__name__}: {exc}"
+            out.append(r)
+        return out
