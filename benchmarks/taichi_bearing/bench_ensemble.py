@@ -11,6 +11,10 @@ Nothing else may run on the machine meanwhile.
 
     python benchmarks/taichi_bearing/bench_ensemble.py --members 4 --threads 1
     python benchmarks/taichi_bearing/bench_ensemble.py --members 4 --threads 2
+
+With ``--sizes``, ensembles of each size only (no singles), and the runs per minute each
+gives: on a GPU, ``--arch cuda --case cases/single_passage.yaml --sizes 1,4,16,64`` gives
+issue 45's passages per minute (one passage a run of that case).
 """
 
 from __future__ import annotations
@@ -47,23 +51,24 @@ def stage_times(summary: dict) -> tuple[float, float, float]:
     return t["model"], t["preload"], t["transient"]
 
 
-def run_singles(cases, root: Path, threads: int) -> tuple[float, tuple]:
+def run_singles(cases, root: Path, threads: int, arch: str = "cpu") -> tuple[float, tuple]:
     from taichi_bearing.pipeline import run_case
 
     t0 = time.perf_counter()
     parts = [0.0, 0.0, 0.0]
     for k, case in enumerate(cases):
-        s = run_case(case, root / f"single{k}", threads=threads, quiet=True, post=False)
+        s = run_case(case, root / f"single{k}", arch=arch, threads=threads, quiet=True,
+                     post=False)  # fmt: skip
         parts = [a + b for a, b in zip(parts, stage_times(s), strict=True)]
     return time.perf_counter() - t0, tuple(parts)
 
 
-def run_members(cases, root: Path, threads: int) -> tuple[float, tuple]:
+def run_members(cases, root: Path, threads: int, arch: str = "cpu") -> tuple[float, tuple]:
     from taichi_bearing.pipeline import run_ensemble
 
     t0 = time.perf_counter()
     outs = [root / f"member{k}" for k in range(len(cases))]
-    summaries = run_ensemble(cases, outs, threads=threads, quiet=True, post=False)
+    summaries = run_ensemble(cases, outs, arch=arch, threads=threads, quiet=True, post=False)
     bad = [s for s in summaries if isinstance(s, Exception)]
     if bad:
         raise SystemExit(f"an ensemble member stopped: {bad[0]}")
@@ -77,10 +82,15 @@ def main() -> int:
     p.add_argument("--duration-ms", type=float, default=1.0)
     p.add_argument("--threads", type=int, default=1)
     p.add_argument("--repeats", type=int, default=2)
+    p.add_argument("--arch", default="cpu")
+    p.add_argument("--sizes", default=None, metavar="N1,N2,...",
+                   help="ensembles of these sizes only, and their runs per minute")  # fmt: skip
     args = p.parse_args()
     from taichi_bearing.solver.backend import init_taichi
 
-    init_taichi("cpu", args.threads)
+    init_taichi(args.arch, args.threads)
+    if args.sizes:
+        return ensemble_sizes(args)
     cases = member_cases(args.case, args.members, args.duration_ms)
     kinds = {"singles": run_singles, "ensemble": run_members}
     totals: dict[str, list[float]] = {k: [] for k in kinds}
@@ -88,7 +98,7 @@ def main() -> int:
         root = Path(tmp)
         warm = member_cases(args.case, args.members, 0.05)
         for name, run in kinds.items():
-            run(warm, root / f"warm_{name}", args.threads)
+            run(warm, root / f"warm_{name}", args.threads, args.arch)
         print(f"{args.members} members of {args.case}, {args.duration_ms:g} ms, "
               f"{args.threads} thread(s)")  # fmt: skip
         print(f"{'repeat':>6s} {'kind':>9s} {'model s':>8s} {'preload s':>10s} "
@@ -96,12 +106,32 @@ def main() -> int:
         for r in range(args.repeats):
             order = list(kinds) if r % 2 == 0 else list(kinds)[::-1]
             for name in order:
-                wall, (model, pre, tr) = kinds[name](cases, root / f"r{r}_{name}", args.threads)
+                wall, (model, pre, tr) = kinds[name](
+                    cases, root / f"r{r}_{name}", args.threads, args.arch
+                )
                 totals[name].append(wall)
                 print(f"{r:6d} {name:>9s} {model:8.1f} {pre:10.1f} {tr:12.1f} {wall:8.1f}")
     single, ens = (statistics.median(totals[k]) for k in ("singles", "ensemble"))
     print(f"median wall: singles {single:.1f} s, ensemble {ens:.1f} s, "
           f"ratio ensemble / singles {ens / single:.3f}")  # fmt: skip
+    return 0
+
+
+def ensemble_sizes(args) -> int:
+    """An ensemble of each size in ``args.sizes`` (after a warm-up of each): wall time and
+    runs per minute."""
+    sizes = [int(n) for n in args.sizes.split(",")]
+    with tempfile.TemporaryDirectory(prefix="bench_ensemble_") as tmp:
+        root = Path(tmp)
+        print(f"{'members':>7s} {'model s':>8s} {'preload s':>10s} {'transient s':>12s} "
+              f"{'wall s':>8s} {'runs/min':>9s}")  # fmt: skip
+        for n in sizes:
+            run_members(member_cases(args.case, n, 0.05), root / f"warm{n}", args.threads,
+                        args.arch)  # fmt: skip
+            cases = member_cases(args.case, n, args.duration_ms)
+            wall, (model, pre, tr) = run_members(cases, root / f"n{n}", args.threads, args.arch)
+            print(f"{n:7d} {model:8.1f} {pre:10.1f} {tr:12.1f} {wall:8.1f} "
+                  f"{60.0 * n / wall:9.2f}")  # fmt: skip
     return 0
 
 

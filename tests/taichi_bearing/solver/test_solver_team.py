@@ -175,7 +175,14 @@ def disk_serial_61() -> dict:
     return disk_run("serial", steps=61)
 
 
-@pytest.mark.parametrize("launch", ["unrolled", "graph"])
+@pytest.mark.parametrize(
+    "launch",
+    [
+        # unrolled launches are not the default (the graph is): ~35 s, run with -m slow
+        pytest.param("unrolled", marks=pytest.mark.slow),
+        "graph",
+    ],
+)
 def test_a_gpus_split_of_the_step_gives_the_same_motion(monkeypatch, launch, disk_serial_61):
     """Launches of several steps (unrolled, or a compute graph of one-step kernels), each
     phase split among a GPU's 65,536 members (most with nothing to do), run here on the
@@ -205,7 +212,15 @@ def loaded_block(repeat_a_node: bool) -> Model:
                  loads=loads, damping=StiffnessDamping(0.02, 20e3))  # fmt: skip
 
 
-@pytest.mark.parametrize("repeat_a_node", [False, True])
+@pytest.mark.parametrize(
+    "repeat_a_node",
+    [
+        # loads each on a node of their own beside a plate, in serial, team and parallel
+        # stepping: also the bearing's, shown by test_ensemble_model.py; ~22 s, -m slow
+        pytest.param(False, marks=pytest.mark.slow),
+        True,
+    ],
+)
 def test_the_plate_and_the_loads_are_the_same_in_every_mode(monkeypatch, repeat_a_node):
     """The loads (split among the members, or member 0's where a node has two) and the
     rigid plate (each plate node sums the plate's velocity from the plate forces) step
