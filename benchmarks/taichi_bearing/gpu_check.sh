@@ -12,7 +12,12 @@
 #              graph failing on cuda);
 #   python     the whole case again with one step a launch from Python (side by side);
 #   multirate  bench_multirate.py on cuda: 3 levels against single-rate on the
-#              convergence study's 0.125 mm local refinement.
+#              convergence study's 0.125 mm local refinement;
+#   ensemble   bench_ensemble.py on cuda: ensembles of $ENS_SIZES (default "1,4,16,64")
+#              members of cases/single_passage.yaml, $ENS_MS ms (default 1) after the
+#              preload each, their runs per minute (issue 45's table; a passage takes the
+#              case's whole duration, so passages per minute = runs per minute x ENS_MS /
+#              the case's duration_ms).
 # Every stage shares one kernel cache (/tmp/bg/cache_cuda). Each stage's limit must leave
 # room for compiling: Taichi writes its offline cache when a process ends, so a process
 # killed while compiling leaves nothing for the next (seen: 8 steps a launch took 113 s to
@@ -102,5 +107,11 @@ if want multirate; then
     echo "== multirate: bench_multirate on cuda, levels 0 and 3, 4000 steps" | tee -a "$LOG"
     timeout "${MULTIRATE_S:-150}" $PY benchmarks/taichi_bearing/bench_multirate.py --arch cuda --levels 0 3 \
         --repeats 1 --steps 4000 2>&1 | grep -v '^\[Taichi\]' | tee -a "$LOG"
+fi
+if want ensemble; then
+    echo "== ensemble: bench_ensemble on cuda, sizes ${ENS_SIZES:-1,4,16,64}" | tee -a "$LOG"
+    timeout "${ENSEMBLE_S:-400}" $PY benchmarks/taichi_bearing/bench_ensemble.py --arch cuda \
+        --case cases/single_passage.yaml --sizes "${ENS_SIZES:-1,4,16,64}" \
+        --duration-ms "${ENS_MS:-1}" 2>&1 | grep -v '^\[Taichi\]' | tee -a "$LOG"
 fi
 exit 0

@@ -258,11 +258,9 @@ def run_members(
     frame_every = _every(config.frame_interval, config.sample_rate) if out else None
     ckpt_every = _every(config.checkpoint_interval, config.sample_rate) if out else None
     ns = model.n_sensor // nm
-    names = (
-        [n.split(":", 1)[-1] for n in model.sensor_names[:ns]]
-        if not single
-        else (model.sensor_names)
-    )
+    names = model.sensor_names[:ns]
+    if "member_info" in model.mesh.info:  # a stacked mesh: a member's own sensor names
+        names = [n.split(":", 1)[-1] for n in names]
     base = history_columns(names, 0, ENERGY_KINDS)
     n_head = 1 + 6 * ns
     extra = [c for r in recorders[0] for c in r.columns]

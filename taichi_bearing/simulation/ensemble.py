@@ -32,6 +32,7 @@ from taichi_bearing.simulation.recorders import (
     ContactForceRecorder,
     RollerMotionRecorder,
 )
+from taichi_bearing.simulation.roller_readout import RollerReadout
 from taichi_bearing.simulation.simulate import (
     Simulated,
     check_entries,
@@ -42,7 +43,7 @@ from taichi_bearing.simulation.simulate import (
     stage_mesh,
     transient_entries,
 )
-from taichi_bearing.simulation.starter import Setup, build_setup
+from taichi_bearing.simulation.starter import Setup, build_setup, roller_kinematics_matrix
 from taichi_bearing.solver.contact_setup import ContactPair
 from taichi_bearing.solver.loads import RigidVelocity
 
@@ -300,12 +301,20 @@ def simulate_ensemble(
         f"({times['preload']:.1f} s)")  # fmt: skip
     model.set_initial_velocities()
 
-    sample = EnsembleSample(model, em.contact, em.cage)
+    # every member's rollers in one device read-out a sample (roller j of member k: row
+    # k Z + j), in the node order of each member's own
+    z = em.setups[0].n_rollers
+    nodes, owner = roller_kinematics_matrix(meshes[0], z)
+    per_roller = [nodes[owner == j] for j in range(z)]
+    readout = RollerReadout([ids + k * nn for k in range(len(cases)) for ids in per_roller],
+                            model.mass_np)  # fmt: skip
+    sample = EnsembleSample(model, em.contact, em.cage, readout)
     recorders = []
     n_pairs = len(em.setups[0].contact_pairs)
-    for k, (mesh, setup) in enumerate(zip(meshes, em.setups, strict=True)):
-        rollers = RollerMotionRecorder(mesh, model.mass_np[k * nn : (k + 1) * nn],
-                                       setup.n_rollers)  # fmt: skip
+    for k, setup in enumerate(em.setups):
+        rollers = RollerMotionRecorder(
+            setup.n_rollers, lambda k=k: sample.get("rollers")[k * z : (k + 1) * z]
+        )
         recorders.append([
             ContactForceRecorder(MemberContact(sample, k, n_pairs), setup.pair_table),
             rollers,

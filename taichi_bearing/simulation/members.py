@@ -1,7 +1,7 @@
 """An ensemble member seen as a model of its own, for the recorders.
 
-The history recorders (:mod:`taichi_bearing.simulation.recorders`) read a model's
-positions and velocities, a contact's sample means and a cage's angle and speed. In an
+The history recorders (:mod:`taichi_bearing.simulation.recorders`) read a model's time and
+rollers' motion, a contact's sample means and a cage's angle and speed. In an
 ensemble those are read back once per output sample for every member together
 (:class:`EnsembleSample`) and each member's recorders get views of its share, so that a
 member records exactly what its case run alone records.
@@ -16,11 +16,12 @@ __all__ = ["EnsembleSample", "MemberCage", "MemberContact", "MemberModel"]
 
 class EnsembleSample:
     """What one output sample reads back from an ensemble's model, once for all members:
-    positions, velocities, the contact's pair means and the cages' states (each read on
-    first use after :meth:`refresh`)."""
+    the contact's pair means, the cages' states and the rollers' centres and spins (a
+    :class:`~taichi_bearing.simulation.roller_readout.RollerReadout` of every member's
+    rollers) (each read on first use after :meth:`refresh`)."""
 
-    def __init__(self, model, contact, cage) -> None:
-        self.model, self.contact, self.cage = model, contact, cage
+    def __init__(self, model, contact, cage, rollers=None) -> None:
+        self.model, self.contact, self.cage, self.rollers = model, contact, cage, rollers
         self._cache: dict[str, np.ndarray] = {}
 
     def refresh(self) -> None:
@@ -30,32 +31,23 @@ class EnsembleSample:
     def get(self, what: str) -> np.ndarray:
         if what not in self._cache:
             read = {
-                "x": self.model.positions,
-                "v": self.model.velocities,
                 "pairs": self.contact.pop_sample_means,
                 "cage": lambda: self.cage.state.to_numpy(),
+                "rollers": lambda: self.rollers.measure(self.model),
             }[what]
             self._cache[what] = read()
         return self._cache[what]
 
 
 class MemberModel:
-    """Member ``k``'s nodes of the sample's positions and velocities, and the time."""
+    """What member ``k``'s recorders read of the model itself: the time."""
 
     def __init__(self, sample: EnsembleSample, k: int) -> None:
         self.sample, self.k = sample, k
-        n = sample.model.member_nodes
-        self._nodes = slice(k * n, (k + 1) * n)
 
     @property
     def time(self) -> float:
         return self.sample.model.time
-
-    def positions(self) -> np.ndarray:
-        return self.sample.get("x")[self._nodes]
-
-    def velocities(self) -> np.ndarray:
-        return self.sample.get("v")[self._nodes]
 
 
 class MemberContact:

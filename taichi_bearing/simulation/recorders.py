@@ -51,39 +51,40 @@ class RollerMotionRecorder(Recorder):
     """Each roller's centre angle, spin and radius at the end of each sample interval.
 
     The centre is the mass centroid of the roller's nodes; the spin is
-    ``sum m r x (v - v_c) / sum m |r|^2`` about it (exact for a rigid roller).
+    ``sum m r x (v - v_c) / sum m |r|^2`` about it (exact for a rigid roller). Both are
+    computed on the model's device (:class:`~taichi_bearing.simulation.roller_readout.
+    RollerReadout`): a sample reads three numbers a roller.
+
+    Parameters
+    ----------
+    n_rollers : int
+    measure : callable
+        Returns the ``(n_rollers, 3)`` centres (x, y) and spins of the current state.
     """
 
-    def __init__(self, mesh, mass: np.ndarray, n_rollers: int) -> None:
+    def __init__(self, n_rollers: int, measure) -> None:
         self.n = n_rollers
         self.columns = roller_motion_columns(n_rollers)
-        self.nodes, self.owner = roller_kinematics_matrix(mesh, n_rollers)
-        self.m = np.asarray(mass, dtype=float)[self.nodes]
-        self.m_sum = np.bincount(self.owner, self.m, n_rollers)
+        self.measure = measure
         self.angle = None  # last unwrapped angles
 
-    def centres(self, x: np.ndarray) -> np.ndarray:
-        """Mass centroids (n_rollers, 2) of positions ``x`` of every node."""
-        p = x[self.nodes]
-        return np.stack(
-            [np.bincount(self.owner, self.m * p[:, k], self.n) / self.m_sum for k in (0, 1)],
-            axis=1,
-        )
+    @classmethod
+    def of_model(cls, model, mesh, n_rollers: int) -> RollerMotionRecorder:
+        """The recorder of a bearing model's rollers (``roller<j>`` parts of ``mesh``)."""
+        from taichi_bearing.simulation.roller_readout import RollerReadout
+
+        nodes, owner = roller_kinematics_matrix(mesh, n_rollers)
+        readout = RollerReadout([nodes[owner == j] for j in range(n_rollers)], model.mass_np)
+        return cls(n_rollers, lambda: readout.measure(model))
 
     def sample(self, model) -> np.ndarray:
-        x, v = model.positions(), model.velocities()
-        c = self.centres(x)
-        vc = self.centres(v)
-        r = x[self.nodes] - c[self.owner]
-        dv = v[self.nodes] - vc[self.owner]
-        num = np.bincount(self.owner, self.m * (r[:, 0] * dv[:, 1] - r[:, 1] * dv[:, 0]), self.n)
-        den = np.bincount(self.owner, self.m * (r[:, 0] ** 2 + r[:, 1] ** 2), self.n)
-        spin = num / den
-        angle = np.arctan2(-c[:, 0], c[:, 1])
+        motion = np.asarray(self.measure())
+        cx, cy, spin = motion[:, 0], motion[:, 1], motion[:, 2]
+        angle = np.arctan2(-cx, cy)
         if self.angle is not None:
             angle = self.angle + (angle - self.angle + math.pi) % (2 * math.pi) - math.pi
         self.angle = angle
-        return np.concatenate([angle, spin, np.hypot(c[:, 0], c[:, 1])])
+        return np.concatenate([angle, spin, np.hypot(cx, cy)])
 
     def state_arrays(self) -> dict[str, np.ndarray]:
         a = np.full(self.n, np.nan) if self.angle is None else self.angle

@@ -153,7 +153,7 @@ def build_model(case: Case, mesh: Mesh, arch: str = "cpu", threads: int | None =
             start_speed=setup.rates.cage,
         )
         model.add_contributor(cage)
-    rollers = RollerMotionRecorder(mesh, model.mass_np, setup.n_rollers)
+    rollers = RollerMotionRecorder.of_model(model, mesh, setup.n_rollers)
     recorders = [
         ContactForceRecorder(contact, setup.pair_table),
         rollers,

@@ -176,7 +176,7 @@ class RigidCage(ForceContributor):
         n = len(cage["pocket_angles"])
         r_i, r_o = float(cage["inner_radius"]), float(cage["outer_radius"])
         names = [f"roller{j}" for j in range(n)]
-        if len(members) > 1:
+        if "member_info" in info:  # a stacked mesh: its surfaces are named by member
             names = [member_name(r, k) for k in range(len(members)) for r in names]
         return cls(
             model,
