@@ -63,6 +63,12 @@ def _mark_events(ax: Axes, events) -> None:
         ax.legend(loc="upper right", fontsize="small")
 
 
+def _comb_colour(label: str, i: int) -> str:
+    """A fault comb's colour from the name its label starts with ('BPFI sidebands'), else
+    the ``i``-th event colour."""
+    return _FAMILY_COLOURS.get(label.split()[0], _EVENT_COLOURS[i % len(_EVENT_COLOURS)])
+
+
 def fault_markers(freqs: FaultFrequencies) -> dict[str, float]:
     """Marker frequencies of the fault families: BPFO, BPFI and 2xBSF (Hz)."""
     return {"BPFO": freqs.bpfo, "BPFI": freqs.bpfi, "2xBSF": 2.0 * freqs.bsf}
@@ -234,6 +240,8 @@ def plot_envelope_spectrum(
     ax: Axes | None = None,
     title: str = "Squared envelope spectrum",
     ylabel: str = "amplitude",
+    sidebands: Mapping[str, tuple[float, float]] | None = None,
+    scale_from: float | None = None,
 ) -> Figure:
     """Envelope spectrum with markers at the harmonics of the fault frequencies.
 
@@ -248,6 +256,12 @@ def plot_envelope_spectrum(
         Harmonics marked per frequency.
     f_max : float, optional
         Upper frequency shown; default just above the highest marker.
+    sidebands : mapping, optional
+        ``{label: (f0, spacing)}``: dotted markers at ``k * f0 +- spacing`` for each
+        harmonic ``k`` drawn (an inner race's lines at the shaft rate either side, a ball's
+        at the cage rate), coloured as the comb the label starts with.
+    scale_from : float, optional
+        Lowest frequency whose lines set the y range; default half the lowest marker.
     """
     f = np.asarray(f, dtype=float)
     amplitude = np.asarray(amplitude, dtype=float)
@@ -261,20 +275,27 @@ def plot_envelope_spectrum(
     ax.plot(f[keep], amplitude[keep], lw=0.7, color="k")
     # Scale to the lines from half the lowest marker up: the near-DC bins of an envelope
     # spectrum (slow level changes) would otherwise flatten everything else.
-    f_lo = 0.5 * min(markers.values()) if markers else 0.0
+    f_lo = scale_from
+    if f_lo is None:
+        f_lo = 0.5 * min(markers.values()) if markers else 0.0
     shown = keep & (f >= f_lo)
     if shown.any() and np.max(amplitude[shown]) > 0:
         ax.set_ylim(0.0, 1.05 * np.max(amplitude[shown]))
     for i, (name, f0) in enumerate(markers.items()):
-        colour = _FAMILY_COLOURS.get(name.split()[0], _EVENT_COLOURS[i % len(_EVENT_COLOURS)])
+        colour = _comb_colour(name, i)
         for k in range(1, n_harmonics + 1):
             if k * f0 <= f_max:
                 ax.axvline(k * f0, color=colour, lw=0.8, ls="--", label=name if k == 1 else None)
+    for i, (name, (f0, spacing)) in enumerate((sidebands or {}).items()):
+        colour = _comb_colour(name, i)
+        lines = [k * f0 + j * spacing for k in range(1, n_harmonics + 1) for j in (-1, 1)]
+        for n, f_sb in enumerate(v for v in lines if 0.0 < v <= f_max):
+            ax.axvline(f_sb, color=colour, lw=0.7, ls=":", label=name if n == 0 else None)
     ax.set_xlim(0.0, f_max)
     ax.set_xlabel("frequency (Hz)")
     ax.set_ylabel(ylabel)
     ax.set_title(title)
-    if markers:
+    if markers or sidebands:
         ax.legend(fontsize="small")
     return fig
 

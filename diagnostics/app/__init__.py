@@ -5,6 +5,8 @@ results or shows progress.
   (``bearing-diagnostics``), its parsers and the option checks;
 - :mod:`diagnostics.app.benchmark`: ``diagnose`` over a folder of public records,
   tabulated against the faults their names give;
+- :mod:`diagnostics.app.report`: ``analyze``'s ``report.html`` and ``benchmark --html``,
+  one self-contained page each;
 - :mod:`diagnostics.app.datasets`: what a CWRU or MFPT record's name says, its bearing,
   and how to read it;
 - :mod:`diagnostics.app.compare`: records side by side through one analysis, figures and

@@ -1,5 +1,5 @@
 """``python -m diagnostics analyze``: one record read, its speed found, diagnosed, drawn and
-summarised (``summary.json``, the figures, the lines printed).
+summarised (``summary.json``, the figures, ``report.html``, the lines printed).
 
 Importing this module loads numpy only: scipy and matplotlib load when the command runs, so
 that ``--help`` answers at once (their imports below sit inside the functions for that).
@@ -18,6 +18,7 @@ from bearing_io.files import output_folder, write_json
 from diagnostics import BearingGeometry, bearing_frequencies
 from diagnostics.app._figure_files import save_figure as _save
 from diagnostics.app._options import UsageError, check_fs_option, check_notches, parse_bearing
+from diagnostics.app.report import REPORT_FILE, verdict_words, write_analyze_report
 
 if TYPE_CHECKING:  # scipy loads when a command runs, not for --help
     from diagnostics import Diagnosis
@@ -85,8 +86,9 @@ def add_analyze_arguments(parser: argparse.ArgumentParser) -> None:
 
 def _markers(d: Diagnosis) -> dict[str, float]:
     """Comb fundamentals to mark: where a family was detected, the frequency found (slip
-    included) with the comb it was found by, else the kinematic one; and the other source's
-    series where it set a detected family aside."""
+    included) with the comb it was found by, else the kinematic one; the kinematic BPFO,
+    BPFI, 2xBSF and FTF not marked so; and the other source's series where it set a
+    detected family aside."""
     labels = {"outer": "BPFO", "inner": "BPFI", "ball": "2xBSF"}
     out = {}
     for family, label in labels.items():
@@ -98,9 +100,23 @@ def _markers(d: Diagnosis) -> dict[str, float]:
             out[f"{s.comb or label} ({found})"] = s.found_hz
         else:
             out[label] = s.expected_hz if s.comb in ("", label) else _kinematic(d, family)
+    f = d.frequencies
+    for label, f0 in (("BPFO", f.bpfo), ("BPFI", f.bpfi), ("2xBSF", 2.0 * f.bsf), ("FTF", f.ftf)):
+        if not any(k.startswith(label) for k in out):  # every comb, for reference
+            out[label] = f0
     if d.dominated:  # the series that set a detected family aside
         out["other series"] = d.other_series[0]
     return out
+
+
+def _sideband_markers(d: Diagnosis, unit: str) -> dict[str, tuple[float, float]]:
+    """The modulation sidebands of each detected family that has them (the inner race's at
+    the shaft rate, a ball's at the cage rate): ``{label: (fundamental, spacing)}``."""
+    return {
+        f"{s.comb} sidebands (+-{s.sideband_hz:.4g} {unit})": (s.found_hz, s.sideband_hz)
+        for s in d.families.values()
+        if s is not None and s.detected and s.sideband_hz > 0
+    }
 
 
 def _kinematic(d: Diagnosis, family: str) -> float:
@@ -122,13 +138,18 @@ def _figures(x, fs: float, d: Diagnosis, notch: list[float], raw, out: Path) -> 
         times = impact_times(x[:n_show], fs, d.band, rate)
         events = {f"{d.fault} impacts": times}
     best = d.best_band
+    markers = _markers(d)
     envelope_figure = plots.plot_envelope_spectrum(
         best.f,
         best.z,
-        _markers(d),
+        markers,
         title=f"Squared envelope spectrum, band {best.band[0]:.4g}-"
         f"{best.band[1]:.4g} {unit} ({best.name})",
         ylabel="power / local background",
+        sidebands=_sideband_markers(d, unit),
+        # The y range from the race and spin combs' lines: the cage-rate comb, drawn for
+        # reference, sits among the shaft's low harmonics, which would flatten them.
+        scale_from=0.5 * min(v for k, v in markers.items() if k != "FTF"),
     )
     band_maps = {
         name: plots.plot_kurtogram(
@@ -165,6 +186,7 @@ def _family_summary(d: Diagnosis) -> dict:
             out[name] = None
             continue
         out[name] = {
+            "comb": s.comb,
             "expected_hz": s.expected_hz,
             "found_hz": s.found_hz,
             "band_hz": list(s.band),
@@ -314,7 +336,9 @@ def _speed_check_lines(d: Diagnosis, unit: str) -> list[str]:
 
 def run_analyze(args: argparse.Namespace) -> int:
     """Run ``analyze`` on parsed options: read the record, find its speed, diagnose it, write
-    ``summary.json`` and the figures into ``--out``, print the verdict; returns 0.
+    ``summary.json``, the figures and ``report.html`` (the verdict, the evidence, the key
+    figures on one page: :mod:`diagnostics.app.report`) into ``--out``, print the verdict;
+    returns 0.
 
     Raises
     ------
@@ -378,6 +402,7 @@ def run_analyze(args: argparse.Namespace) -> int:
         "verdict": d.fault,
         "confidence": d.confidence,
         "band_hz": list(d.band),
+        "band_name": d.best_band.name,
         "scores": d.scores,
         "alpha": d.alpha,
         "families": _family_summary(d),
@@ -388,7 +413,9 @@ def run_analyze(args: argparse.Namespace) -> int:
         "figures": figures,
     }
     write_json(out / "summary.json", summary)
-    _print_summary(sig, rpm, d, out, len(figures) + 1)
+    unit = "orders" if d.domain == "order" else "Hz"
+    write_analyze_report(out, summary, _speed_check_lines(d, unit), _evidence_lines(d, unit))
+    _print_summary(sig, rpm, d, out, len(figures) + 2)
     return 0
 
 
@@ -413,6 +440,34 @@ def _band_map_summary(band_map, value: str, used, second=None) -> dict | None:
     if band_map.quantity != "kurtosis":
         summary["second_band_hz"] = None if second is None else list(second)
     return summary
+
+
+def _evidence_lines(d: Diagnosis, unit: str) -> list[str]:
+    """What the verdict rests on beyond the scores: a ball named by a line and its
+    sideband, and each family not named though its lines stood out, with the reason."""
+    lines = []
+    named = d.families.get(d.fault)
+    if named is not None and named.detected and named.sideband_pair_p < named.pair_p:
+        lines.append(
+            f"evidence: a {named.comb} line and its cage-rate sideband ({named.sideband_hz:.4g} "
+            f"{unit} away; joint p {named.sideband_pair_p:.2g}, the best pair of harmonics "
+            f"{named.pair_p:.2g})"
+        )
+    for family, s in d.families.items():
+        if s is not None and s.slower_period:
+            rate = s.found_hz / s.slower_period
+            lines.append(
+                f"not named: {family} (the lines between its {s.comb} harmonics show impacts "
+                f"at {rate:.4g} {unit}, 1/{s.slower_period} of its rate: no fault of this "
+                "bearing)"
+            )
+    for family in d.dominated:
+        lines.append(
+            f"not named: {family} (its lines belong to a stronger series at "
+            f"{d.other_series[0]:.4g} {unit}, no fault frequency of this bearing: another "
+            "component?)"
+        )
+    return lines
 
 
 def _print_summary(sig, rpm: float, d: Diagnosis, out: Path, n_files: int) -> None:
@@ -449,34 +504,13 @@ def _print_summary(sig, rpm: float, d: Diagnosis, out: Path, n_files: int) -> No
                     f"; also in {second[0]:.4g}-{second[1]:.4g} {unit}, the best band of "
                     "that kind that does not overlap it"
                 )
-    verdict = "no bearing fault found" if d.fault == "none" else f"{d.fault} fault"
     lines += [
-        f"verdict: {verdict} (confidence {d.confidence:.2f}; "
+        f"verdict: {verdict_words(d.fault)} (confidence {d.confidence:.2f}; "
         f"band {d.band[0]:.4g}-{d.band[1]:.4g} {unit})",
         "scores: " + "  ".join(f"{k} {v:.0f}" for k, v in d.scores.items()),
     ]
-    named = d.families.get(d.fault)
-    if named is not None and named.detected and named.sideband_pair_p < named.pair_p:
-        lines.append(
-            f"evidence: a {named.comb} line and its cage-rate sideband ({named.sideband_hz:.4g} "
-            f"{unit} away; joint p {named.sideband_pair_p:.2g}, the best pair of harmonics "
-            f"{named.pair_p:.2g})"
-        )
-    for family, s in d.families.items():
-        if s is not None and s.slower_period:
-            rate = s.found_hz / s.slower_period
-            lines.append(
-                f"not named: {family} (the lines between its {s.comb} harmonics show impacts "
-                f"at {rate:.4g} {unit}, 1/{s.slower_period} of its rate: no fault of this "
-                "bearing)"
-            )
-    for family in d.dominated:
-        lines.append(
-            f"not named: {family} (its lines belong to a stronger series at "
-            f"{d.other_series[0]:.4g} {unit}, no fault frequency of this bearing: another "
-            "component?)"
-        )
+    lines += _evidence_lines(d, unit)
     lines += [
-        f"wrote {n_files} files to {out}",
+        f"wrote {n_files} files to {out}; the page to read first: {out / REPORT_FILE}",
     ]
     print("\n".join(lines))

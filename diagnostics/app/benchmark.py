@@ -27,6 +27,7 @@ __all__ = [
     "run_benchmark",
     "summary_table",
     "speed_summary",
+    "record_rows",
     "record_table",
 ]
 
@@ -270,6 +271,25 @@ def speed_summary(results: list[BenchmarkResult]) -> str:
     if missing:
         lines.append(f"no shaft lines within 5 % of the file's speed: {', '.join(missing)}")
     return "\n".join(lines)
+
+
+def record_rows(results: list[BenchmarkResult]) -> list[dict]:
+    """One row per record, as ``--csv`` and ``--html`` write them: record, set, expected,
+    verdict, confidence, correct, detail, speed_change, shaft_lines."""
+    return [
+        {
+            "record": str(r.path),
+            "set": r.group,
+            "expected": r.expected,
+            "verdict": r.verdict,
+            "confidence": r.confidence,
+            "correct": r.correct,
+            "detail": r.detail,
+            "speed_change": r.speed_change,
+            "shaft_lines": r.shaft_lines,
+        }
+        for r in results
+    ]
 
 
 def record_table(results: list[BenchmarkResult]) -> str:

@@ -59,6 +59,12 @@ def add_benchmark_arguments(parser: argparse.ArgumentParser) -> None:
     )
     parser.add_argument("--csv", type=Path, help="write every record's verdict to this CSV file")
     parser.add_argument(
+        "--html",
+        type=Path,
+        metavar="FILE",
+        help="write the table, one row per record, as a self-contained HTML page",
+    )
+    parser.add_argument(
         "--other-bearing",
         action="store_true",
         help="false-alarm check: read each CWRU record's other accelerometer with the other "
@@ -88,10 +94,9 @@ def run_benchmark(args: argparse.Namespace) -> int:
             "InnerRaceFault_vload_1.mat)"
         )
 
-    if args.csv is not None:  # before the records are read, not after
-        if not str(args.csv).strip() or args.csv.is_dir():
-            raise UsageError(f"--csv {str(args.csv)!r}: give a file name, e.g. verdicts.csv")
-        output_folder(args.csv.parent, "--csv")
+    # The output files are checked before the records are read, not after.
+    _check_output_file(args.csv, "--csv", "verdicts.csv")
+    _check_output_file(args.html, "--html", "verdicts.html")
     if not math.isfinite(args.progress_interval) or args.progress_interval < 0:
         raise UsageError(f"--progress-interval {args.progress_interval:g}: give seconds, 0 or more")
     # With --records each record's line is the progress.
@@ -123,33 +128,37 @@ def run_benchmark(args: argparse.Namespace) -> int:
     speeds = benchmark.speed_summary(results)
     if speeds:
         print(speeds + "\n")
-    print(benchmark.summary_table(results))
+    table = benchmark.summary_table(results)
+    print(table)
+    rows = benchmark.record_rows(results)
     if args.csv is not None:
         import pandas as pd
 
-        rows = [
-            {
-                "record": str(r.path),
-                "set": r.group,
-                "expected": r.expected,
-                "verdict": r.verdict,
-                "confidence": r.confidence,
-                "correct": r.correct,
-                "detail": r.detail,
-                "speed_change": r.speed_change,
-                "shaft_lines": r.shaft_lines,
-            }
-            for r in results
-        ]
         with atomic_path(args.csv) as tmp:
             pd.DataFrame(rows).to_csv(tmp, index=False)
         print(f"wrote {args.csv}")
+    if args.html is not None:
+        from diagnostics.app.report import write_benchmark_html
+
+        title = f"Benchmark: {', '.join(map(str, args.folders))}"
+        write_benchmark_html(args.html, rows, table, title)
+        print(f"wrote {args.html}")
     return 0
+
+
+def _check_output_file(path: Path | None, option: str, example: str) -> None:
+    """Refuse an output file that cannot be written (an empty name, a folder, a parent
+    that cannot be made or written in), in one line naming ``option``."""
+    if path is None:
+        return
+    if not str(path).strip() or path.is_dir():
+        raise UsageError(f"{option} {str(path)!r}: give a file name, e.g. {example}")
+    output_folder(path.parent, option)
 
 
 COMMANDS = {
     "analyze": (
-        "diagnose one vibration record: figures, summary.json and a verdict",
+        "diagnose one vibration record: figures, summary.json, report.html and a verdict",
         add_analyze_arguments,
         run_analyze,
     ),

@@ -6,7 +6,6 @@ only). The run report (:mod:`taichi_bearing.post.report`) and the study reports
 
 from __future__ import annotations
 
-import base64
 import html
 import math
 import os
@@ -16,6 +15,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from bearing_io.files import atomic_path
+from bearing_io.report_html import html_page, html_table, png_figure
 from taichi_bearing.output.layout import FIGURES_DIR
 
 __all__ = [
@@ -109,14 +109,6 @@ def to_markdown(blocks: list, run_dir: Path) -> str:
     return "\n".join(lines)
 
 
-_CSS = (
-    "body{font-family:sans-serif;max-width:1000px;margin:2em auto;color:#222}"
-    "table{border-collapse:collapse;margin:0.5em 0}td,th{border:1px solid #bbb;"
-    "padding:2px 8px;text-align:left}th{background:#eee}img{max-width:100%}"
-    "figcaption{font-style:italic;margin-bottom:1.5em}"
-)
-
-
 def _inline(text: str) -> str:
     """Escaped text with Markdown's inline code and links as HTML (``[text](href)`` as
     an ``<a>``)."""
@@ -131,31 +123,17 @@ def _inline(text: str) -> str:
 def to_html(blocks: list) -> str:
     """The blocks as one self-contained HTML page (pictures inline as base64 data URIs)."""
     title = next((b.text for b in blocks if isinstance(b, Heading)), "Run report")
-    parts = [
-        "<!DOCTYPE html>",
-        '<html><head><meta charset="utf-8">',
-        f"<title>{html.escape(title)}</title><style>{_CSS}</style></head><body>",
-    ]
+    parts = []
     for b in blocks:
         if isinstance(b, Heading):
             parts.append(f"<h{b.level}>{html.escape(b.text)}</h{b.level}>")
         elif isinstance(b, Para):
             parts.append(f"<p>{_inline(b.text)}</p>")
         elif isinstance(b, Table):
-            head = "".join(f"<th>{html.escape(h)}</th>" for h in b.header)
-            body = "".join(
-                "<tr>" + "".join(f"<td>{_inline(c)}</td>" for c in row) + "</tr>" for row in b.rows
-            )
-            parts.append(f"<table><tr>{head}</tr>{body}</table>")
+            parts.append(html_table(b.header, b.rows, _inline))
         elif isinstance(b, Image):
-            data = base64.b64encode(b.path.read_bytes()).decode("ascii")
-            parts.append(
-                f'<figure><img alt="{html.escape(b.path.stem)}" '
-                f'src="data:image/png;base64,{data}"><figcaption>'
-                f"{html.escape(b.caption)}</figcaption></figure>"
-            )
-    parts.append("</body></html>")
-    return "\n".join(parts)
+            parts.append(png_figure(b.path.read_bytes(), b.path.stem, b.caption))
+    return html_page(title, parts)
 
 
 def write_documents(blocks: list, md_path: Path) -> tuple[Path, Path]:
