@@ -5,8 +5,8 @@ Runs a grid of cases over any case keys (:mod:`taichi_bearing.studies.cells`;
 ``--vary operating.load_kN=...`` and ``--vary operating.speed_rpm=...``) on a local
 process pool or, with ``--scheduler ADDRESS``, on a Dask distributed cluster; then writes
 ``sweep_summary.csv``, figures and ``sweep_report.md`` (a load x speed sweep also the
-increase tables). Exit status: 0 all cells finished, 1 some failed (each reported), 2 bad
-input.
+increase tables). Exit status: 0 all cells finished, 1 some failed (each reported, its
+folder marked; the same command again runs only the cells not finished), 2 bad input.
 
 The pool arguments and :func:`run_study` are shared by the ``passages`` and
 ``convergence`` commands: one cell engine for every study.
@@ -27,8 +27,9 @@ def add_pool_arguments(parser: argparse.ArgumentParser) -> None:
     """``--workers``, ``--scheduler``, ``--threads``, ``--no-post``, ``--quiet``: how a
     study runs its cells."""
     parser.add_argument("--workers", type=int, default=None, metavar="N",
-                        help="local process pool size (default: all cores); each case "
-                        "gets max(1, cores // N) Taichi threads")  # fmt: skip
+                        help="cases run at once on this machine, each in its own process "
+                        "(default: all cores); each case gets max(1, cores // N) Taichi "
+                        "threads")  # fmt: skip
     parser.add_argument("--scheduler", default=None, metavar="ADDRESS",
                         help="Dask scheduler address (tcp://host:8786): run the cases on "
                         "that cluster (needs the [distributed] extra and a shared file "
@@ -131,10 +132,14 @@ def command_text(name: str, args: argparse.Namespace, options: list[str]) -> str
 
 
 def report_failures(results) -> list:
-    """Print each failed cell on stderr; returns the failed results."""
+    """Print each failed cell on stderr, then how to run them again; returns the failed
+    results."""
     failed = [r for r in results if r.status != "finished"]
     for r in failed:
         print(f"failed: {r.name}: {r.error}", file=sys.stderr)
+    if failed:
+        print("the same command again runs the cells not finished (finished ones are kept)",
+              file=sys.stderr)  # fmt: skip
     return failed
 
 

@@ -19,7 +19,10 @@ name (constant)           content
                           rates the transient starts from (:data:`ROLLING_RATES_KEY`).
 ``summary.json``          :data:`SUMMARY_FILE`: written with status ``running`` before the
                           transient, ``finished`` (checks included), ``interrupted``
-                          (Ctrl-C) or ``stopped`` (the solver stopped) at its end.
+                          (Ctrl-C) or ``stopped`` (the solver stopped) at its end;
+                          ``failed`` when a study's cell died without saying why
+                          (``kill -9``, out of memory, a lost worker): the study
+                          writes it, with ``stop_reason``.
 ``histories.parquet``     :data:`HISTORIES_FILE`: one row per sample, columns below.
 ``histories.parts/``      :data:`HISTORIES_PARTS_DIR`: the rows in chunks while the run goes
                           on; what is left of a run killed hard (``kill -9``).
@@ -127,7 +130,9 @@ STATUS_RUNNING = "running"
 STATUS_FINISHED = "finished"
 STATUS_INTERRUPTED = "interrupted"
 STATUS_STOPPED = "stopped"
-STATUSES = (STATUS_RUNNING, STATUS_FINISHED, STATUS_INTERRUPTED, STATUS_STOPPED)
+# a study's cell whose process died without a word (the study that ran it says so)
+STATUS_FAILED = "failed"
+STATUSES = (STATUS_RUNNING, STATUS_FINISHED, STATUS_INTERRUPTED, STATUS_STOPPED, STATUS_FAILED)
 
 REQUIRED_SUMMARY_KEYS = (
     "n_elements",

@@ -9,21 +9,33 @@ not run again. :func:`run_cell` is the one task function, sent unchanged to eith
 it runs the case in a child Python process (``python -m taichi_bearing run``), so Taichi's
 global state and thread pool belong to that case alone and a crash of one case cannot take
 a pool or Dask worker down with it.
+
+Faults: the local pool is threads of this process, each waiting on its cell's child, so
+the only process a fault can take (out of memory, ``kill -9``) is one cell's own; that cell
+is reported failed with the reason and its folder's ``summary.json`` says ``status:
+failed`` and why (:func:`mark_failed`), the other cells run on. A child dies with the
+process that started it (:mod:`taichi_bearing.studies.child`): a lost Dask worker takes
+its cell's child along, and Dask runs the task again on another worker (or, past the
+scheduler's ``allowed-failures``, reports it failed, marked the same way). Running the
+same command again runs only the cells not finished; finished folders are not touched.
 """
 
 from __future__ import annotations
 
 import os
-import subprocess
-import sys
 import uuid
-from collections.abc import Callable, Mapping, Sequence
-from dataclasses import dataclass, field
-from pathlib import Path
+from collections.abc import Callable, Sequence
 
 from taichi_bearing.errors import InputError
-from taichi_bearing.output.layout import STATUS_FINISHED
-from taichi_bearing.output.run_folder import read_summary
+from taichi_bearing.studies.cell_task import (
+    CellResult,
+    failure_text,
+    is_finished,
+    local_threads,
+    mark_failed,
+    result_of,
+    run_cell,
+)
 from taichi_bearing.studies.cells import (
     LOAD_KEY,
     SPEED_KEY,
@@ -45,102 +57,17 @@ __all__ = [
     "SweepCell",
     "cell_dir_name",
     "column_labels",
+    "failure_text",
     "is_finished",
     "local_threads",
     "make_cells",
+    "mark_failed",
     "numeric_axis",
     "parse_values",
     "parse_vary",
     "run_cell",
     "run_sweep",
 ]
-
-
-@dataclass
-class CellResult:
-    """What a task reports back: the cell's values, status, error line and wall time."""
-
-    name: str
-    values: Mapping[str, object]
-    out_dir: str
-    status: str
-    error: str = ""
-    wall_s: float = 0.0
-    ran: bool = False
-    extra: dict = field(default_factory=dict)
-
-
-def is_finished(run_dir: str | os.PathLike) -> bool:
-    """Whether a run folder holds a ``summary.json`` with ``status: finished``."""
-    try:
-        summary = read_summary(run_dir)
-    except (OSError, ValueError):
-        return False
-    return summary is not None and summary.get("status") == STATUS_FINISHED
-
-
-def local_threads(workers: int, cores: int | None = None) -> int:
-    """Taichi threads for each of ``workers`` concurrent cases: ``max(1, cores // workers)``."""
-    cores = (os.cpu_count() or 1) if cores is None else cores
-    return max(1, cores // max(1, workers))
-
-
-def _threads_here(cell: SweepCell) -> int:
-    """The cell's threads, or on a Dask worker: its host's cores over its thread slots."""
-    if cell.threads is not None:
-        return cell.threads
-    try:
-        from distributed import get_worker
-
-        slots = get_worker().state.nthreads
-    except (ImportError, ValueError, AttributeError):
-        slots = 1
-    return local_threads(slots)
-
-
-def _last_line(text: str) -> str:
-    lines = [ln.strip() for ln in text.splitlines() if ln.strip()]
-    return lines[-1] if lines else ""
-
-
-def _result(cell: SweepCell, status: str) -> CellResult:
-    return CellResult(cell.name, dict(cell.values), cell.out_dir, status)
-
-
-def run_cell(cell: SweepCell) -> CellResult:
-    """Run one cell into its folder; never raises (a failure is in the result).
-
-    The case runs as ``python -m taichi_bearing run CASE --out DIR --set ... --threads N
-    --quiet`` in a child process; its last stderr line is the error of a failed run.
-    """
-    import time
-
-    res = _result(cell, "failed")
-    cmd = [sys.executable, "-m", "taichi_bearing", "run", cell.case_path, "--out", cell.out_dir]
-    for ov in cell.overrides:
-        cmd += ["--set", ov]
-    cmd += ["--threads", str(_threads_here(cell)), "--quiet"]
-    if not cell.post:
-        cmd.append("--no-post")
-    # the child imports this very package, wherever the worker was started
-    env = dict(os.environ)
-    root = str(Path(__file__).resolve().parents[1])
-    env["PYTHONPATH"] = os.pathsep.join(p for p in (root, env.get("PYTHONPATH")) if p)
-    t0 = time.perf_counter()
-    try:
-        proc = subprocess.run(cmd, capture_output=True, text=True, check=False, env=env)
-    except OSError as exc:
-        res.error = f"could not start the run: {exc}"
-        return res
-    res.wall_s, res.ran = time.perf_counter() - t0, True
-    if proc.returncode == 0 and is_finished(cell.out_dir):
-        res.status = "finished"
-    else:
-        line = _last_line(proc.stderr) or _last_line(proc.stdout)
-        res.error = f"exit status {proc.returncode}: {line}" if line else (
-            f"exit status {proc.returncode}"
-        )  # fmt: skip
-    return res
 
 
 def _dask_threads(client) -> int:
@@ -173,8 +100,8 @@ def run_sweep(
     ----------
     cells : sequence of SweepCell
     workers : int, optional
-        Local process pool size (default: the number of cores, at most the cells to run).
-        Ignored with ``scheduler``.
+        Tasks run at once on this machine, each in its own child process (default: the
+        number of cores, at most the cells to run). Ignored with ``scheduler``.
     scheduler : str or distributed.Client, optional
         Dask scheduler address (``tcp://host:8786``) or a connected client: the same
         :func:`run_cell` tasks go to that cluster instead of the local pool.
@@ -198,7 +125,7 @@ def run_sweep(
     todo = []
     for c in cells:
         if is_finished(c.out_dir):
-            results[c.out_dir] = _result(c, "finished")
+            results[c.out_dir] = result_of(c, "finished")
         else:
             todo.append(c)
     bar = tqdm(total=len(cells), initial=len(cells) - len(todo), unit="case",
@@ -234,18 +161,26 @@ def _task(group: list[SweepCell]) -> list[CellResult]:
 
 
 def _run_pool(groups: list[list[SweepCell]], workers: int | None, done) -> None:
-    import multiprocessing as mp
-    from concurrent.futures import ProcessPoolExecutor, as_completed
+    """At most ``workers`` tasks at a time, each a thread waiting on its cells' child
+    process: no pool worker process whose loss would break the pool (a
+    ``ProcessPoolExecutor`` fails every pending cell when one worker dies)."""
+    from concurrent.futures import ThreadPoolExecutor, as_completed
 
     n = max(1, min(workers or os.cpu_count() or 1, len(groups)))
     threads = local_threads(n)
     groups = [[c if c.threads is not None else _with_threads(c, threads) for c in g]
               for g in groups]  # fmt: skip
-    with ProcessPoolExecutor(max_workers=n, mp_context=mp.get_context("spawn")) as pool:
+    with ThreadPoolExecutor(max_workers=n, thread_name_prefix="cell") as pool:
         futures = {pool.submit(_task, g): g for g in groups}
-        for fut in as_completed(futures):
-            for r in _outcome(fut, futures[fut]):
-                done(r)
+        try:
+            for fut in as_completed(futures):
+                for r in _outcome(fut, futures[fut]):
+                    done(r)
+        except BaseException:
+            # Ctrl-C: start no further cell (those running end with their children)
+            for fut in futures:
+                fut.cancel()
+            raise
 
 
 def _run_dask(groups: list[list[SweepCell]], scheduler, done) -> None:
@@ -283,15 +218,25 @@ def _with_threads(cell: SweepCell, threads: int) -> SweepCell:
     return dataclasses.replace(cell, threads=threads)
 
 
+_LOST_WORKER = (
+    "its Dask worker died while running it, past the scheduler's allowed failures (out of "
+    "memory, a lost node or kill -9)"
+)
+
+
 def _outcome(fut, group: list[SweepCell]) -> list[CellResult]:
     """The future's results, or a failed result per cell naming the exception (a lost
-    worker)."""
+    worker: Dask's ``KilledWorker``), each cell's folder marked so (:func:`mark_failed`)."""
     try:
         return fut.result()
     except Exception as exc:  # noqa: BLE001 - one lost case must not stop the sweep
+        kind = type(exc).__name__
+        # Dask's message names the task key and a worker address: not what a user needs
+        text = _LOST_WORKER if kind == "KilledWorker" else " ".join(str(exc).split())
         out = []
         for cell in group:
-            r = _result(cell, "failed")
-            r.error = f"{type(exc).__name__}: {exc}"
+            r = result_of(cell, "failed")
+            r.error = f"{kind}: {text}"
+            mark_failed(cell.out_dir, r.error)
             out.append(r)
         return out

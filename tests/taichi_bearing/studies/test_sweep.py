@@ -1,6 +1,9 @@
 """The sweep: process pool and Dask cluster agree, reruns skip finished cases, a failing
 case is reported while the others finish, bad arguments exit 2; any case key varies
-(``--vary``), ``--load-kN``/``--speed-rpm`` are its shorthands.
+(``--vary``), ``--load-kN``/``--speed-rpm`` are its shorthands. Faults: a cell killed
+mid-run (``kill -9`` of its process, of its Dask worker) fails alone, its folder marked;
+the same command again runs only it, and its histories are those of a sweep never
+interrupted.
 
 Cells: the coarse validation case, 0.1 ms of transient (the preload dominates) with a
 loose preload tolerance and no frames or per-run report; 2 loads x 2 speeds; one thread
@@ -11,6 +14,12 @@ from __future__ import annotations
 
 import json
 import math
+import os
+import signal
+import subprocess
+import sys
+import threading
+import time
 from pathlib import Path
 
 import numpy as np
@@ -33,6 +42,7 @@ from taichi_bearing.studies.sweep import (
     column_labels,
     local_threads,
     make_cells,
+    mark_failed,
     parse_values,
     parse_vary,
     run_sweep,
@@ -381,3 +391,222 @@ def test_load_speed_report_leads_with_the_trends_and_names_a_failed_cell(tmp_pat
     assert f"Not growing or not judged: {label} grows with load at 1 of 2 speeds" in verdict
     assert f"{label} grows with speed at 1 of 2 loads" in verdict
     assert paths["html"].is_file()
+
+
+# ------------------------------------------------------------------ faults
+
+needs_proc = pytest.mark.skipif(
+    not sys.platform.startswith("linux"), reason="finds processes in /proc; ties them by prctl"
+)
+# Two cells on a 3 mm mesh (~4,000 elements), 0.5 ms each, that differ only in an output
+# option: the cell not killed is the uninterrupted run the killed one's rerun must equal,
+# bit for bit.
+FAULT_SETS = ("mesh.surface_size_mm=3", "mesh.max_size_mm=6", "run.duration_ms=0.5",
+              "run.checkpoint_interval_ms=0.1", "output.frames=false",
+              "preload.ke_ratio_tol=1e-2")  # fmt: skip
+FAULT_AXIS = ("--vary", "output.csv=false,true")
+
+
+def _fault_argv(out: Path) -> list[str]:
+    argv = ["sweep", str(CASE), *FAULT_AXIS, "--out", str(out), "--workers", "2"]
+    for s in FAULT_SETS:
+        argv += ["--set", s]
+    return [*argv, "--no-post", "--quiet", "--threads", "1"]
+
+
+def _summary(run_dir: Path) -> dict:
+    return json.loads((run_dir / "summary.json").read_text())
+
+
+def _status(run_dir: Path) -> str | None:
+    try:
+        return _summary(run_dir).get("status")
+    except (OSError, ValueError):  # not written yet
+        return None
+
+
+def _pids_writing(run_dir: Path) -> list[tuple[int, int]]:
+    """(pid, parent pid) of each live process whose command line has ``--out run_dir``."""
+    found = []
+    for proc in Path("/proc").iterdir():
+        if not proc.name.isdigit():
+            continue
+        try:
+            argv = (proc / "cmdline").read_bytes().decode(errors="replace").split("\0")
+            state, ppid = (proc / "stat").read_text().rpartition(")")[2].split()[:2]
+        except OSError:  # gone meanwhile
+            continue
+        out = argv[argv.index("--out") + 1] if "--out" in argv[:-1] else None
+        if state not in "ZX" and out == str(run_dir.resolve()):
+            found.append((int(proc.name), int(ppid)))
+    return found
+
+
+class _Watch(threading.Thread):
+    """Watches the processes writing ``run_dir``: the most at once, and (with ``kill``)
+    SIGKILLs, once, the one ``kill(pid, parent_pid)`` names as soon as the run has
+    written its first checkpoint (it is then in its transient)."""
+
+    def __init__(self, run_dir: Path, kill=None) -> None:
+        super().__init__(daemon=True)
+        self.run_dir, self.kill = run_dir, kill
+        self.killed: int | None = None
+        self.most = 0
+        self.stop = threading.Event()
+
+    def run(self) -> None:
+        while not self.stop.wait(0.02):
+            found = _pids_writing(self.run_dir)
+            self.most = max(self.most, len(found))
+            started = any((self.run_dir / "checkpoints").glob("checkpoint_*.npz"))
+            if self.kill and self.killed is None and found and started:
+                self.killed = self.kill(*found[0])
+                os.kill(self.killed, signal.SIGKILL)
+
+    def __enter__(self) -> _Watch:
+        self.start()
+        return self
+
+    def __exit__(self, *exc) -> None:
+        self.stop.set()
+        self.join(timeout=5)
+
+
+def _files(run_dir: Path) -> dict[str, tuple[int, bytes]]:
+    """Every file of a folder: its modification time (ns) and bytes."""
+    return {str(p.relative_to(run_dir)): (p.stat().st_mtime_ns, p.read_bytes())
+            for p in sorted(run_dir.rglob("*")) if p.is_file()}  # fmt: skip
+
+
+def _histories(run_dir: Path) -> bytes:
+    return (run_dir / "histories.parquet").read_bytes()
+
+
+def test_mark_failed_says_why_only_where_the_run_did_not(tmp_path):
+    running = tmp_path / "running"
+    running.mkdir()
+    (running / "summary.json").write_text(json.dumps({"status": "running", "n_nodes": 5}))
+    assert mark_failed(running, "killed by SIGKILL")
+    s = _summary(running)
+    assert (s["status"], s["stop_reason"], s["n_nodes"]) == ("failed", "killed by SIGKILL", 5)
+    assert "dt_s" in s["missing_keys"]  # a partial summary says what it lacks
+    bare = tmp_path / "bare"  # killed while meshing: no summary yet
+    bare.mkdir()
+    assert mark_failed(bare, "exit status 1: MemoryError")
+    assert _summary(bare)["status"] == "failed"
+    for status in ("finished", "stopped", "interrupted"):  # the run said itself how it ended
+        said = tmp_path / status
+        said.mkdir()
+        (said / "summary.json").write_text(json.dumps({"status": status}))
+        assert not mark_failed(said, "x") and _status(said) == status
+    assert not mark_failed(tmp_path / "absent", "x") and not (tmp_path / "absent").exists()
+
+
+@needs_proc
+def test_a_cells_process_dies_with_the_process_that_started_it():
+    """A lost worker takes its cell's process along: no orphan writes the folder on."""
+    code = (
+        "import subprocess, time\n"
+        "from taichi_bearing.studies.child import child_command\n"
+        "cmd = child_command('timeit', '-n1', '-r1', 'import time; time.sleep(120)')\n"
+        "print(subprocess.Popen(cmd).pid, flush=True)\n"
+        "time.sleep(120)\n"
+    )
+    env = dict(os.environ, PYTHONPATH=str(ROOT))
+    parent = subprocess.Popen([sys.executable, "-c", code], stdout=subprocess.PIPE, text=True,
+                              env=env)  # fmt: skip
+    try:
+        child = int(parent.stdout.readline())
+        time.sleep(0.5)  # the child is running its module (sleeping)
+    finally:
+        parent.kill()
+        parent.communicate()
+    deadline = time.monotonic() + 10
+    while time.monotonic() < deadline:
+        try:
+            state = Path(f"/proc/{child}/stat").read_text().rpartition(")")[2].split()[0]
+        except OSError:
+            break  # gone and reaped
+        if state in "ZX":
+            break  # dead, waiting for its new parent to reap it
+        time.sleep(0.05)
+    else:
+        os.kill(child, signal.SIGKILL)
+        pytest.fail("the child outlived its parent")
+
+
+@needs_proc
+def test_a_killed_cell_fails_alone_and_the_same_command_finishes_it(tmp_path, capsys):
+    """``kill -9`` of one cell's process in its transient: the other cell finishes, the
+    killed one is reported with the signal and its folder says failed; the same command
+    again runs only it and leaves the finished folder as it was (every file, bit for bit
+    and not even rewritten); its histories are then those of a run never interrupted."""
+    out = tmp_path / "faulty"
+    lost, kept = out / "csv_false", out / "csv_true"
+    with _Watch(lost, kill=lambda pid, ppid: pid) as watch:
+        assert cli(_fault_argv(out)) == 1
+    assert watch.killed is not None and watch.most == 1
+    err = capsys.readouterr().err
+    assert f"failed: {lost.name}: killed by SIGKILL (out of memory" in err
+    assert "the same command again runs the cells not finished" in err
+    said = _summary(lost)
+    assert said["status"] == "failed" and said["stop_reason"].startswith("killed by SIGKILL")
+    assert (lost / "histories.parts").is_dir()  # what it recorded, for post
+    assert _status(kept) == "finished"
+    df = pd.read_csv(out / "sweep_summary.csv").set_index("run_dir")
+    assert df["status"].to_dict() == {lost.name: "failed", kept.name: "finished"}
+    assert df.loc[lost.name, "error"].startswith("killed by SIGKILL")
+    assert "2 cells, 1 finished, 1 failed" in (out / "sweep_report.md").read_text()
+
+    before = _files(kept)
+    assert cli(_fault_argv(out)) == 0
+    assert _files(kept) == before
+    df = pd.read_csv(out / "sweep_summary.csv").set_index("run_dir")
+    assert df["status"].to_dict() == {lost.name: "finished", kept.name: "finished"}
+    assert df["ran"].to_dict() == {lost.name: True, kept.name: False}
+    assert df["max_outer_fn_N"].notna().all()  # the summary covers every cell
+    assert "stop_reason" not in _summary(lost) and not (lost / "histories.parts").exists()
+    assert _histories(lost) == _histories(kept)
+
+
+# 40 to 90 s each: a LocalCluster, two cells and a rerun (run -m slow when touching Dask)
+@needs_proc
+@pytest.mark.slow
+@pytest.mark.parametrize("allowed_failures", [0, 3])
+def test_a_lost_dask_worker_takes_only_its_cell(tmp_path, allowed_failures):
+    """The Dask worker running a cell killed in its transient: the cell's process dies
+    with it (never two runs writing one folder). Past the scheduler's allowed failures the
+    cell is reported failed and its folder says so, and the same sweep again runs only it;
+    within them Dask runs the task again on a live worker. Its histories are then those of
+    a run never interrupted."""
+    distributed = pytest.importorskip("distributed")
+    import dask
+
+    out = tmp_path / "dask"
+    out.mkdir()
+    cells = make_cells(CASE, [parse_vary(FAULT_AXIS[1])], out, FAULT_SETS, threads=1,
+                       post=False)  # fmt: skip
+    lost, kept = (Path(c.out_dir) for c in cells)
+    with (
+        dask.config.set({"distributed.scheduler.allowed-failures": allowed_failures}),
+        distributed.LocalCluster(
+            n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None
+        ) as cluster,
+        distributed.Client(cluster) as client,
+        _Watch(lost, kill=lambda pid, ppid: ppid) as watch,  # the worker, not the run
+    ):
+        results = run_sweep(cells, scheduler=client, progress=False)
+    assert watch.killed is not None and watch.most == 1
+    assert [r.name for r in results] == [lost.name, kept.name]
+    assert results[1].status == "finished"
+    if allowed_failures == 0:
+        assert results[0].status == "failed"
+        assert results[0].error.startswith("KilledWorker: its Dask worker died")
+        assert _summary(lost)["status"] == "failed"
+        before = _files(kept)
+        again = run_sweep(cells, workers=2, progress=False)
+        assert [(r.status, r.ran) for r in again] == [("finished", True), ("finished", False)]
+        assert _files(kept) == before
+    else:
+        assert results[0].status == "finished"
+    assert _histories(lost) == _histories(kept)
