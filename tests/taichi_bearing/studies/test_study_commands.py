@@ -271,7 +271,10 @@ def test_passages_on_the_coarse_case(tmp_path):
     assert sorted(df["first_roller_angle_deg"]) == [-2.5, -2.3]
     assert (df["roller"] == 0).all() and (df["exit_force_peak_ratio"] > 1).all()
     runs = pd.read_csv(out / "runs.csv")
-    assert (runs["q_max_N"] > 0).all() and (runs["contact_half_width_m"] > 0).all()
+    # the coarse case's 3 mm surface elements do not resolve a ~0.2 mm patch: the nodal
+    # kernel's spread (h^2 / 6) exceeds the measured variance and the deconvolved width is
+    # clipped at 0 (analytic.contact_pressure.nodal_patch)
+    assert (runs["q_max_N"] > 0).all() and (runs["contact_half_width_m"] >= 0).all()
 
 
 @pytest.mark.slow
