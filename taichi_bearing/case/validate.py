@@ -17,6 +17,14 @@ import math
 import warnings
 from typing import TYPE_CHECKING
 
+from taichi_bearing.case.operating import (
+    MAX_PRESSURE_RATIO,
+    MAX_SURFACE_SPEED_RATIO,
+    STATIC_CAPACITY_PRESSURE,
+    ContactPressureWarning,
+    check_operating,
+    peak_contact_pressure,
+)
 from taichi_bearing.case.sections import Bearing, Case
 from taichi_bearing.errors import CaseError, CaseWarning
 
@@ -55,32 +63,6 @@ SENSOR_REACH = 3.0
 bearing's material before it is refused: the nearest node would be a different point."""
 
 
-MAX_SURFACE_SPEED_RATIO = 0.1
-"""Fastest inner-raceway surface speed a case may have, as a fraction of the material's
-shear wave speed (steel: 10 % of 3.2 km/s, 320 m/s). The inner raceway moves fastest of
-all the bearing's material (the rollers' points on it move with it; the contacts roll
-over both surfaces at (R_p + r) / (2 R_p) of it, R_p the pitch radius). Industrial
-bearings run below 1 % of the shear wave speed and the fastest built (aero-engine main
-shafts, DN ~ 3e6 mm rpm) at 5 to 8 %. At 10 % a ring's centrifugal hoop stress rho v^2
-is already mu / 100 (0.8 GPa in steel), and nearer the Rayleigh wave speed (7 % below
-the shear wave speed) a moving contact load is no longer the quasi-static Hertz contact
-that the preload, the analytic model and the penalty's calibration assume."""
-
-MAX_PRESSURE_RATIO = 0.05
-"""Largest Hertz peak pressure of the most loaded contact (:func:`peak_contact_pressure`),
-as a fraction of Young's modulus E (steel: E / 20 = 10.5 GPa). The contact's half-width
-is ``b = 2 R p0 / E* = 4 (1 - nu^2) R p0 / E``: 0.18 R at E / 20, where Hertz's premise of
-a contact small against its radii is gone; in steel it is 2.6 times the static-capacity
-pressure (:data:`STATIC_CAPACITY_PRESSURE`) and three times the ~3.5 GPa at which hardened
-bearing steel first yields under a line contact. A run of it describes no bearing."""
-
-STATIC_CAPACITY_PRESSURE = 4.0e9
-"""Hertz peak pressure of a roller bearing's basic static load rating, Pa (ISO 76: 4000
-MPa at the centre of the most loaded roller contact, which leaves a permanent set of
-1e-4 of the roller diameter). Above it a steel bearing is overloaded: warned
-(:class:`ContactPressureWarning`) rather than refused, since an overload may be what is
-studied; the elastic model ignores the plastic set."""
-
 DEPTH_REACH_FACTOR = 10.0
 """How many times deeper than a rigid roller can drop into it (:func:`spall_reach`) a
 spall may be before it is warned (:class:`SpallReachWarning`). The roller never touches a
@@ -92,11 +74,6 @@ which more often is a unit slip (um for mm) or a spall meant to be longer."""
 
 class ExtendedDefectWarning(CaseWarning):
     """The defect is longer than the spacing between rollers (an extended defect)."""
-
-
-class ContactPressureWarning(CaseWarning):
-    """The load presses the most loaded roller beyond the static capacity
-    (:data:`STATIC_CAPACITY_PRESSURE`)."""
 
 
 class SpallReachWarning(CaseWarning):
@@ -131,7 +108,7 @@ def check_case(case: Case, source: str | None = None) -> None:
         When the sample rate lowers the time step.
     """
     _check_geometry(case, source)
-    _check_operating(case, source)
+    check_operating(case, source)
     _check_defect(case, source)
     _check_refinement(case, source)
     _check_time_step(case, source)
@@ -141,86 +118,6 @@ def check_case(case: Case, source: str | None = None) -> None:
 
 # Palmgren's line-contact exponent, Q ~ delta^(10/9), as in the quasi-static model
 # (taichi_bearing.analytic.bearing.LINE_CONTACT_EXPONENT: a later stage, not importable here)
-_LINE_CONTACT_EXPONENT = 10.0 / 9.0
-
-
-def peak_contact_pressure(case: Case) -> float:
-    """Hertz peak pressure of the most loaded contact of the healthy bearing, Pa.
-
-    The roller at 12 o'clock under ``operating.load``, in the rigid-ring model of
-    :mod:`taichi_bearing.analytic.quasistatic`, on the inner raceway (the smaller Hertz
-    radius, so the higher pressure): ``p0 = sqrt(Q E* / (pi R l))``. With clearance
-    ``P_d >= 0`` roller j carries at most ``Q cos^n(psi_j)``, with equality at ``P_d = 0``,
-    so ``Q >= W / sum(cos^(n+1) psi_j)`` over the rollers in the upper half: Stribeck's
-    load of the most loaded roller (4.08 W / Z for many rollers), exact at zero clearance
-    and a lower bound with clearance; with preload only ``W / sum(cos psi_j)`` is sure.
-    A lower bound, so that a case refused on it is refused by the model too.
-
-    Parameters
-    ----------
-    case : Case
-        The loaded case (its bearing, material and ``operating.load``).
-
-    Returns
-    -------
-    float
-        ``p0``, Pa: the quasi-static model's at zero clearance, at most it otherwise
-        (:func:`taichi_bearing.analytic.quasistatic.static_contact_table`, cage angle 0).
-    """
-    b, m = case.bearing, case.material
-    power = 1.0 + (_LINE_CONTACT_EXPONENT if b.radial_clearance >= 0.0 else 0.0)
-    cosines = (math.cos(j * b.roller_spacing) for j in range(b.n_rollers))
-    q_max = case.operating.load / sum(c**power for c in cosines if c > 0.0)
-    # convex on convex: 1/R = 1/r + 1/R_i; E* of one material on itself is E' / 2
-    radius = 1.0 / (1.0 / b.roller_radius + 1.0 / b.inner_raceway_radius)
-    e_star = 0.5 * m.plane_strain_modulus
-    return math.sqrt(q_max / b.roller_length * e_star / (math.pi * radius))
-
-
-def _check_operating(case: Case, src: str | None) -> None:
-    """The speed against the shear wave speed, the load's contact pressure against what
-    an elastic solid carries (and, warned, against the static capacity)."""
-    b, m, op = case.bearing, case.material, case.operating
-    speed = op.speed * b.inner_raceway_radius
-    c_s = m.shear_wave_speed
-    fastest = MAX_SURFACE_SPEED_RATIO * c_s
-    if speed > fastest:
-        raise CaseError(
-            "operating.speed_rpm",
-            f"{op.shaft_rpm:.4g} rpm moves the inner raceway at {speed:.3g} m/s, "
-            f"{speed / c_s:.3g} x the material's shear wave speed ({c_s:.4g} m/s); no "
-            f"bearing runs above {100 * MAX_SURFACE_SPEED_RATIO:g} % of it (at most "
-            f"{op.shaft_rpm * fastest / speed:.4g} rpm here): the contact would not be "
-            "quasi-static",
-            src,
-        )
-    p0 = peak_contact_pressure(case)
-    # p0 grows as sqrt(load): the load that would reach a pressure p is load (p / p0)^2
-    strongest = MAX_PRESSURE_RATIO * m.youngs_modulus
-    where = (
-        f"{op.load / 1e3:.4g} kN presses the most loaded roller ({b.roller_length * MM:g} mm "
-        f"long) on the inner raceway at {p0 / 1e9:.3g} GPa (Hertz peak pressure)"
-    )
-    if p0 > strongest:
-        raise CaseError(
-            "operating.load_kN",
-            f"{where}, above E/{1 / MAX_PRESSURE_RATIO:g} ({strongest / 1e9:.3g} GPa, E "
-            f"{m.youngs_modulus / 1e9:.4g} GPa) that no elastic solid carries (at most "
-            f"{op.load * (strongest / p0) ** 2 / 1e3:.4g} kN here)",
-            src,
-        )
-    if p0 > STATIC_CAPACITY_PRESSURE:
-        warnings.warn(
-            ContactPressureWarning(
-                "operating.load_kN",
-                f"{where}, above the {STATIC_CAPACITY_PRESSURE / 1e9:g} GPa of a roller "
-                "bearing's static capacity (ISO 76; "
-                f"{op.load * (STATIC_CAPACITY_PRESSURE / p0) ** 2 / 1e3:.4g} kN here): steel "
-                "would take a permanent set, which the elastic model ignores",
-                src,
-            ),
-            stacklevel=4,
-        )
 
 
 def _check_contact(case: Case, src: str | None) -> None:
