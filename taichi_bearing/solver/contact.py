@@ -47,6 +47,7 @@ import taichi as ti
 from taichi_bearing.solver import transfer
 from taichi_bearing.solver.backend import serial_loops
 from taichi_bearing.solver.contact_patch import arc_frame, patch_overlap
+from taichi_bearing.solver.contact_readout import ContactReadout
 from taichi_bearing.solver.contact_search import (
     build_grid,
     candidate,
@@ -65,7 +66,7 @@ from taichi_bearing.solver.contact_setup import (
     segment_curvature,
     segment_end_corners,
 )
-from taichi_bearing.solver.contributor import FORCE_QUANTUM, ForceContributor, add_force, force_at
+from taichi_bearing.solver.contributor import ForceContributor, add_force, force_at
 from taichi_bearing.solver.laws.contact import ContactLaw, contact_law
 from taichi_bearing.solver.laws.friction import friction_force
 from taichi_bearing.solver.model import Model
@@ -75,7 +76,7 @@ __all__ = ["ContactPair", "ContactParameters", "PenaltyContact"]
 
 
 @ti.data_oriented
-class PenaltyContact(ForceContributor):
+class PenaltyContact(ContactReadout, ForceContributor):
     """Penalty contact between named surface pairs of a :class:`Model`.
 
     Parameters
@@ -574,65 +575,3 @@ class PenaltyContact(ForceContributor):
         rebuilt at the next step."""
         super().load_state_arrays(arrays)
         self.after_state_load()
-
-    # ------------------------------------------------------------------ read-out
-
-    def current_resultants(self) -> np.ndarray:
-        """Per pair (fx, fy, fn, ft) of the last step, shape (n_pairs, 4), N.
-
-        ``fx, fy``: force BY the slave body ON the master body (global axes). ``fn``: sum
-        of the normal contact forces, positive in compression. ``ft``: tangential force on
-        the master along the master surface's direction (body on its left), i.e. the
-        outward normal turned +90 degrees.
-        """
-        return self.cur.to_numpy()[: self.n_pairs] * FORCE_QUANTUM
-
-    def pop_sample_means(self) -> np.ndarray:
-        """Mean of :meth:`current_resultants` over the steps since the last call (zeros
-        if none), shape (n_pairs, 4); restarts the sums."""
-        (acc,) = transfer.download((self.acc,), zero=True)
-        s = acc[: self.n_pairs] / max(self.n_samples, 1)
-        self.n_samples = 0
-        return s
-
-    def energy(self) -> float:
-        """Elastic energy stored in the penalty springs (normal + tangential), J."""
-        return self.energies()["elastic"]
-
-    def member_energies(self) -> np.ndarray:
-        """:meth:`energy` of each ensemble member: the sums over its own queries, in the
-        order its model alone sums them."""
-        en, et = transfer.download((self.q_en, self.q_et))
-        owner = self.q_node_np // self._member_nodes
-        bounds = np.searchsorted(owner, np.arange(self._members + 1))
-        pairs = zip(bounds[:-1], bounds[1:], strict=True)
-        return np.array([float(en[a:b].sum() + et[a:b].sum()) for a, b in pairs])
-
-    def energies(self) -> dict[str, float]:
-        """``elastic`` (stored penalty energy), ``friction`` and ``damping`` (dissipated
-        since construction or :meth:`reset_dissipation`), J for the model's thickness."""
-        n = self.n_query
-        en, et, diss, q_diss = transfer.download((self.q_en, self.q_et, self.diss, self.q_diss))
-        d = diss + q_diss[:n].sum(axis=0)
-        elastic = float(en[:n].sum() + et[:n].sum())
-        return {"elastic": elastic, "friction": float(d[0]), "damping": float(d[1])}
-
-    def reset_dissipation(self) -> None:
-        """Zero the dissipation sums (e.g. after the preload)."""
-        transfer.fill((self.diss, self.q_diss))
-
-    def nodal_forces(self) -> np.ndarray:
-        """Contact force on every node in the last step, shape (n_nodes, 2), N."""
-        return self.node_force.to_numpy() * FORCE_QUANTUM
-
-    def contact_state(self) -> dict[str, np.ndarray]:
-        """Per query node: ``node``, ``segment`` (-1 open), ``gap`` (m, negative inside),
-        ``fn`` and ``ft`` (N) of the last step."""
-        n = self.n_query
-        return {
-            "node": self.q_node_np.copy(),
-            "segment": self.q_seg.to_numpy()[:n],
-            "gap": self.q_gap.to_numpy()[:n],
-            "fn": self.q_fn.to_numpy()[:n],
-            "ft": self.q_ft.to_numpy()[:n],
-        }
