@@ -53,8 +53,9 @@ def add_pool_arguments(parser: argparse.ArgumentParser) -> None:
         default=1,
         metavar="N",
         help="step the cases N at a time as one model (an ensemble: the same kernel "
-        "launches for all, what keeps a GPU busy); they must share a mesh (they may differ "
-        "in run.first_roller_angle_deg, operating.load_kN, operating.speed_rpm); each "
+        "launches for all, what keeps a GPU busy); only cases that share a mesh go "
+        "together (they may differ in run.first_roller_angle_deg, operating.load_kN, "
+        "operating.speed_rpm), so a study over meshes fills an ensemble per mesh; each "
         "run's folder and histories are those of the case run alone (default 1: each case "
         "on its own)",
     )
@@ -111,9 +112,9 @@ def run_study(args: argparse.Namespace, axes: list, out: Path, *, scale_duration
     check_pool_arguments(args)
     cells = make_cells(args.case, axes, out, args.overrides, scale_duration=scale_duration,
                        threads=args.threads, post=not args.no_post)  # fmt: skip
-    from taichi_bearing.studies.ensemble_task import check_groups, group_cells
+    from taichi_bearing.studies.ensemble_task import group_cells
 
-    check_groups(group_cells(cells, args.ensemble))  # cells that cannot share a model
+    group_cells(cells, args.ensemble)  # refuses an --ensemble that would group no two cells
     output_folder(out)  # once the cases are valid: a refused study makes no folder
     results = run_sweep(cells, workers=args.workers, scheduler=args.scheduler,
                         progress=not args.quiet, ensemble=args.ensemble)  # fmt: skip

@@ -2,8 +2,9 @@
 stepped as one model.
 
 Each member is a case of its own (the rollers at another start angle, another load or
-speed); the model holds their meshes one after another (:func:`~taichi_bearing.mesh.stack.
-stack_meshes`) and every member keeps its own constraints, loads, contact pairs and cage
+speed); the model holds their meshes one after another
+(:func:`~taichi_bearing.mesh.stack.stack_meshes`) and every member keeps its own
+constraints, loads, contact pairs and cage
 (:class:`~taichi_bearing.solver.model.Model` with ``members``). Stepped by the same
 kernels, each member's arithmetic is that of its case run alone, so its histories are the
 same, bit for bit.
@@ -52,6 +53,7 @@ __all__ = [
     "EnsembleModel",
     "build_ensemble_model",
     "check_members",
+    "member_signature",
     "simulate_ensemble",
 ]
 
@@ -95,6 +97,14 @@ def _flat(d: dict, prefix: str = "") -> dict:
         else:
             out[key] = v
     return out
+
+
+def member_signature(case: Case) -> tuple:
+    """What a case must share with the other members of its ensemble: every key of the
+    case but :data:`MEMBER_KEYS`, as a sorted tuple of (key, value). Two cases can be
+    members of one model exactly when their signatures are equal."""
+    flat = _flat(case_to_dict(case))
+    return tuple(sorted((k, repr(v)) for k, v in flat.items() if k not in MEMBER_KEYS))
 
 
 def check_members(cases: Sequence[Case]) -> None:

@@ -19,30 +19,44 @@ from pathlib import Path
 
 from taichi_bearing.errors import InputError
 
-__all__ = ["check_groups", "group_cells", "run_group"]
+__all__ = ["group_cells", "run_group"]
 
 
 def group_cells(cells: Sequence, size: int) -> list[list]:
-    """The cells in groups of at most ``size``, in order (the last may be smaller)."""
-    if size < 1:
-        raise InputError(f"--ensemble: must be >= 1, got {size}")
-    return [list(cells[i : i + size]) for i in range(0, len(cells), size)]
-
-
-def check_groups(groups: Sequence[Sequence]) -> None:
-    """Refuse groups whose cells cannot share one model (one line naming the key).
+    """The cells in ensembles of at most ``size``: cells go together only where their
+    cases can share one model (equal
+    :func:`~taichi_bearing.simulation.ensemble.member_signature`), in the order of each
+    kind's first cell, so that a study mixing meshes (a convergence study's levels) still
+    fills its ensembles.
 
     Raises
     ------
     InputError
-        From :func:`~taichi_bearing.simulation.ensemble.check_members`.
+        If ``size`` < 1, or if ``size`` > 1 and no two of two or more cells can share a
+        model (naming the first key that keeps them apart): ``--ensemble`` would group
+        nothing.
     """
     from taichi_bearing.case import load_case
-    from taichi_bearing.simulation.ensemble import check_members
+    from taichi_bearing.simulation.ensemble import check_members, member_signature
 
-    for group in groups:
-        if len(group) > 1:
-            check_members([load_case(c.case_path, list(c.overrides)) for c in group])
+    if size < 1:
+        raise InputError(f"--ensemble: must be >= 1, got {size}")
+    if size == 1:
+        return [[c] for c in cells]
+    cases = [load_case(c.case_path, list(c.overrides)) for c in cells]
+    kinds: dict[tuple, list] = {}
+    for cell, case in zip(cells, cases, strict=True):
+        kinds.setdefault(member_signature(case), []).append((cell, case))
+    if len(cells) > 1 and len(kinds) == len(cells):
+        try:
+            check_members(cases[:2])
+        except InputError as exc:
+            raise InputError(f"{exc}: --ensemble {size} would group no two cells") from None
+    groups = []
+    for same in kinds.values():
+        cells_of_kind = [cell for cell, _ in same]
+        groups += [cells_of_kind[i : i + size] for i in range(0, len(same), size)]
+    return groups
 
 
 def run_group(cells: Sequence) -> list:

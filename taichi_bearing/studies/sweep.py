@@ -139,10 +139,9 @@ def run_sweep(
             on_result(r)
 
     if todo:
-        from taichi_bearing.studies.ensemble_task import check_groups, group_cells
+        from taichi_bearing.studies.ensemble_task import group_cells
 
         groups = group_cells(todo, ensemble)
-        check_groups(groups)
         if scheduler is not None:
             _run_dask(groups, scheduler, done)
         else:

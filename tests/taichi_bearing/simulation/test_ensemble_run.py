@@ -1,20 +1,19 @@
 """An ensemble run end to end: two cases of the coarse case (rollers at another start
 angle and another load) run as one model write the run folders their runs alone write,
-histories identical column by column; a study groups its cells into ensembles and refuses
-cells that cannot share a model."""
+histories identical column by column; a study groups into ensembles the cells that can
+share a model, and refuses an ensemble size that would group no two."""
 
 from __future__ import annotations
 
 import dataclasses
 import json
-import math
 import subprocess
 import sys
 
 import numpy as np
 import pytest
+from ensemble_cases import base_case, vary
 
-from taichi_bearing.case import load_case
 from taichi_bearing.output.histories import read_histories
 
 COARSE = "cases/validation/coarse_spall.yaml"
@@ -22,20 +21,10 @@ DURATION = 3e-4  # s: 30 samples, past the preload and the start of rolling
 
 
 def cases():
-    base = load_case(COARSE)
-
-    def vary(angle_deg: float = 0.0, load: float = 1.0):
-        run = dataclasses.replace(
-            base.run,
-            first_roller_angle=base.run.first_roller_angle + math.radians(angle_deg),
-            duration=DURATION,
-        )
-        op = dataclasses.replace(base.operating, load=base.operating.load * load)
-        # a short preload: what is compared is the arithmetic, not the rest reached
-        pre = dataclasses.replace(base.preload, ke_ratio_tol=0.02)
-        return dataclasses.replace(base, run=run, operating=op, preload=pre)
-
-    return [vary(), vary(angle_deg=0.7, load=1.3)]
+    base = base_case()
+    # a short preload: what is compared is the arithmetic, not the rest reached
+    base = dataclasses.replace(base, preload=dataclasses.replace(base.preload, ke_ratio_tol=0.02))
+    return [vary(base, duration=DURATION), vary(base, angle_deg=0.7, load=1.3, duration=DURATION)]
 
 
 @pytest.fixture(scope="module")
@@ -82,3 +71,26 @@ def test_a_study_refuses_cells_that_cannot_share_a_model(tmp_path):
     lines = proc.stderr.strip().splitlines()
     assert len(lines) == 1 and "mesh.surface_size_mm" in lines[0] and "ensemble" in lines[0]
     assert not out.exists()
+
+
+def test_cells_group_by_what_they_share_in_the_order_they_come():
+    """A convergence-like study: three passages on 1 mm, two on 2 mm, interleaved, in
+    ensembles of two: each ensemble holds one mesh's cells only, in order, the last of a
+    kind smaller; cells differing only in start angle or load may share."""
+    from taichi_bearing.studies.cells import SweepCell
+    from taichi_bearing.studies.ensemble_task import group_cells
+
+    def cell(name: str, *overrides: str) -> SweepCell:
+        return SweepCell(COARSE, {}, name, overrides=overrides)
+
+    cells = [
+        cell("a0", "mesh.surface_size_mm=1"),
+        cell("b0", "mesh.surface_size_mm=2", "run.first_roller_angle_deg=1"),
+        cell("a1", "mesh.surface_size_mm=1", "operating.load_kN=40"),
+        cell("b1", "mesh.surface_size_mm=2"),
+        cell("a2", "mesh.surface_size_mm=1", "run.first_roller_angle_deg=2"),
+    ]
+    groups = group_cells(cells, 2)
+    assert [[c.out_dir for c in g] for g in groups] == [["a0", "a1"], ["a2"], ["b0", "b1"]]
+    assert [[c.out_dir for c in g] for g in group_cells(cells, 1)] == [[c.out_dir] for c in cells]
+    assert sum(group_cells(cells, 8), []) == [cells[k] for k in (0, 2, 4, 1, 3)]
