@@ -21,6 +21,7 @@ from pathlib import Path
 
 from taichi_bearing.commands.common import add_case_arguments, check_empty, output_folder
 from taichi_bearing.errors import InputError
+from taichi_bearing.studies.ensemble_task import GPU_ENSEMBLE, parse_ensemble
 
 
 def add_pool_arguments(parser: argparse.ArgumentParser) -> None:
@@ -49,15 +50,15 @@ def add_pool_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--quiet", action="store_true", help="no progress bar")
     parser.add_argument(
         "--ensemble",
-        type=int,
-        default=1,
+        type=str,
+        default="auto",
         metavar="N",
         help="step the cases N at a time as one model (an ensemble: the same kernel "
         "launches for all, what keeps a GPU busy); only cases that share a mesh go "
         "together (they may differ in run.first_roller_angle_deg, operating.load_kN, "
         "operating.speed_rpm), so a study over meshes fills an ensemble per mesh; each "
-        "run's folder and histories are those of the case run alone (default 1: each case "
-        "on its own)",
+        "run's folder and histories are those of the case run alone; auto (default): "
+        f"each case on its own on the CPU, up to {GPU_ENSEMBLE} a model on a GPU",
     )
 
 
@@ -90,8 +91,7 @@ def check_pool_arguments(args: argparse.Namespace) -> None:
         raise InputError(f"--threads: must be >= 1, got {args.threads}")
     if args.scheduler is not None and args.workers is not None:
         raise InputError("--workers: not used with --scheduler (the cluster has its workers)")
-    if args.ensemble < 1:
-        raise InputError(f"--ensemble: must be >= 1, got {args.ensemble}")
+    args.ensemble = parse_ensemble(args.ensemble)
 
 
 def study_folder(args: argparse.Namespace, prefix: str) -> Path:

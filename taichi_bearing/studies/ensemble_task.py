@@ -19,44 +19,78 @@ from pathlib import Path
 
 from taichi_bearing.errors import InputError
 
-__all__ = ["group_cells", "run_group"]
+__all__ = ["AUTO", "GPU_ENSEMBLE", "group_cells", "parse_ensemble", "run_group"]
 
 
-def group_cells(cells: Sequence, size: int) -> list[list]:
-    """The cells in ensembles of at most ``size``: cells go together only where their
-    cases can share one model (equal
-    :func:`~taichi_bearing.simulation.ensemble.member_signature`), in the order of each
-    kind's first cell, so that a study mixing meshes (a convergence study's levels) still
-    fills its ensembles.
+AUTO = "auto"
+GPU_ENSEMBLE = 64
+"""Members of an automatic ensemble on a GPU: the largest size of issue 45's table (one
+passage of the default mesh a member, ~28,000 elements: ~2 GB for 64 members)."""
+
+
+def parse_ensemble(text: str) -> int | str:
+    """``--ensemble``'s value: a count >= 1 or ``auto``.
 
     Raises
     ------
     InputError
-        If ``size`` < 1, or if ``size`` > 1 and no two of two or more cells can share a
-        model (naming the first key that keeps them apart): ``--ensemble`` would group
-        nothing.
+        Naming ``--ensemble``, for anything else.
+    """
+    if str(text).strip().lower() == AUTO:
+        return AUTO
+    try:
+        size = int(text)
+    except (TypeError, ValueError):
+        raise InputError(f"--ensemble: a count >= 1 or 'auto', got {text!r}") from None
+    if size < 1:
+        raise InputError(f"--ensemble: must be >= 1, got {size}")
+    return size
+
+
+def group_cells(cells: Sequence, size: int | str) -> list[list]:
+    """The cells in ensembles of at most ``size``: cells go together only where their
+    cases can share one model (equal
+    :func:`~taichi_bearing.simulation.ensemble.member_signature`), so that a study mixing
+    meshes (a convergence study's levels) still fills its ensembles; the groups in the
+    order of their first cells.
+
+    Parameters
+    ----------
+    cells : sequence of SweepCell
+    size : int or "auto"
+        At most this many cells a model; ``"auto"``: on the CPU one (a cell runs alone), on a
+        GPU (``run.arch`` not cpu) up to :data:`GPU_ENSEMBLE`, which keeps the device busy.
+
+    Raises
+    ------
+    InputError
+        If ``size`` is neither a count >= 1 nor ``"auto"``, or if a count > 1 would group
+        no two of two or more cells (naming the first key that keeps them apart).
     """
     from taichi_bearing.case import load_case
     from taichi_bearing.simulation.ensemble import check_members, member_signature
 
-    if size < 1:
-        raise InputError(f"--ensemble: must be >= 1, got {size}")
+    size = parse_ensemble(size)
     if size == 1:
         return [[c] for c in cells]
     cases = [load_case(c.case_path, list(c.overrides)) for c in cells]
     kinds: dict[tuple, list] = {}
     for cell, case in zip(cells, cases, strict=True):
         kinds.setdefault(member_signature(case), []).append((cell, case))
-    if len(cells) > 1 and len(kinds) == len(cells):
+    if size != AUTO and len(cells) > 1 and len(kinds) == len(cells):
         try:
             check_members(cases[:2])
         except InputError as exc:
             raise InputError(f"{exc}: --ensemble {size} would group no two cells") from None
     groups = []
     for same in kinds.values():
+        n = size
+        if n == AUTO:
+            n = 1 if same[0][1].run.arch == "cpu" else GPU_ENSEMBLE
         cells_of_kind = [cell for cell, _ in same]
-        groups += [cells_of_kind[i : i + size] for i in range(0, len(same), size)]
-    return groups
+        groups += [cells_of_kind[i : i + n] for i in range(0, len(same), n)]
+    first = {id(c): k for k, c in enumerate(cells)}
+    return sorted(groups, key=lambda g: first[id(g[0])])
 
 
 def run_group(cells: Sequence) -> list:

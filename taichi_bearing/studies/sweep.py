@@ -92,7 +92,7 @@ def run_sweep(
     scheduler: str | object | None = None,
     progress: bool = True,
     on_result: Callable[[CellResult], None] | None = None,
-    ensemble: int = 1,
+    ensemble: int | str = 1,
 ) -> list[CellResult]:
     """Run the cells not yet finished; return one result per cell, in the cells' order.
 
@@ -109,10 +109,10 @@ def run_sweep(
         A progress bar over cases.
     on_result : callable, optional
         Called with each result as it arrives.
-    ensemble : int
-        Cells stepped together as one model (:mod:`taichi_bearing.studies.ensemble_task`),
-        in groups of this many, in order; 1 (default): each cell on its own. The cells of a
-        group must be able to share one model (checked before anything runs).
+    ensemble : int or "auto"
+        At most this many cells stepped together as one model, only cells that can share
+        one (:func:`taichi_bearing.studies.ensemble_task.group_cells`); 1 (default): each
+        cell on its own; ``"auto"``: one on the CPU, many on a GPU.
 
     Returns
     -------

@@ -76,7 +76,8 @@ def test_a_study_refuses_cells_that_cannot_share_a_model(tmp_path):
 def test_cells_group_by_what_they_share_in_the_order_they_come():
     """A convergence-like study: three passages on 1 mm, two on 2 mm, interleaved, in
     ensembles of two: each ensemble holds one mesh's cells only, in order, the last of a
-    kind smaller; cells differing only in start angle or load may share."""
+    kind smaller, the ensembles in the order of their first cells; cells differing only in
+    start angle or load may share."""
     from taichi_bearing.studies.cells import SweepCell
     from taichi_bearing.studies.ensemble_task import group_cells
 
@@ -91,6 +92,22 @@ def test_cells_group_by_what_they_share_in_the_order_they_come():
         cell("a2", "mesh.surface_size_mm=1", "run.first_roller_angle_deg=2"),
     ]
     groups = group_cells(cells, 2)
-    assert [[c.out_dir for c in g] for g in groups] == [["a0", "a1"], ["a2"], ["b0", "b1"]]
+    assert [[c.out_dir for c in g] for g in groups] == [["a0", "a1"], ["b0", "b1"], ["a2"]]
     assert [[c.out_dir for c in g] for g in group_cells(cells, 1)] == [[c.out_dir] for c in cells]
     assert sum(group_cells(cells, 8), []) == [cells[k] for k in (0, 2, 4, 1, 3)]
+    # automatic: on the CPU each cell alone, on a GPU every cell of a kind in one model
+    assert group_cells(cells, "auto") == [[c] for c in cells]
+    on_gpu = [cell(c.out_dir, *c.overrides, "run.arch=cuda") for c in cells]
+    assert [[c.out_dir for c in g] for g in group_cells(on_gpu, "auto")] == [
+        ["a0", "a1", "a2"], ["b0", "b1"]
+    ]  # fmt: skip
+
+
+@pytest.mark.parametrize("text", ["0", "-2", "x", "1.5"])
+def test_ensemble_sizes_other_than_a_count_or_auto_are_refused(text):
+    from taichi_bearing.errors import InputError
+    from taichi_bearing.studies.ensemble_task import parse_ensemble
+
+    with pytest.raises(InputError, match="^--ensemble: "):
+        parse_ensemble(text)
+    assert parse_ensemble("AUTO") == "auto" and parse_ensemble("3") == 3
