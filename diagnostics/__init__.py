@@ -49,6 +49,7 @@ import importlib
 _EXPORTS = {
     "_defect_size": ("DefectSize", "contact_speed", "estimate_defect_size",
                      "spall_length_from_travel"),
+    "_candidates": ("Candidate",),
     "_diagnose": ("Diagnosis", "diagnose", "record_requirements"),
     "_comb": ("BandScore", "FamilyScore", "normalised_envelope_spectrum"),
     "_prewhiten": ("prewhiten",),

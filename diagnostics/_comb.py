@@ -180,6 +180,7 @@ class _Setting:
     f_max: float
     half_window: float
     shaft_tolerance: float
+    alpha: float = 1e-4
 
 
 def _family_fundamentals(freqs: FaultFrequencies) -> dict[str, tuple[float, float]]:

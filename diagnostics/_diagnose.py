@@ -19,6 +19,7 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 
 from diagnostics._bands import _SELECTORS, _candidate_bands, _demod_band
+from diagnostics._candidates import Candidate
 from diagnostics._checks import (
     check_bearing_inputs,
     check_positive,
@@ -68,7 +69,9 @@ class Diagnosis:
     Attributes
     ----------
     fault : str
-        ``"outer"``, ``"inner"``, ``"ball"`` or ``"none"``.
+        ``"outer"``, ``"inner"``, ``"ball"`` or ``"none"``; or, where more than one family
+        is detected and the evidence does not decide between them, those families joined
+        by ``" or "`` (``"outer or ball"``, see ``undecided``).
     band : tuple of float
         Demodulation band (Hz) of the verdict: the band of the winning family, or for
         ``"none"`` the band where the strongest (undetected) evidence was seen.
@@ -78,8 +81,8 @@ class Diagnosis:
     confidence : float
         In [0, 1]. For a fault: the evidence of its own lines that no other detected family
         explains, over that plus the same for the next detected family (1 when no other
-        family is detected). For ``"none"``: one minus the ``near_miss`` of the nearest
-        family.
+        family is detected). For an undecided verdict, the same for the first family it
+        names. For ``"none"``: one minus the ``near_miss`` of the nearest family.
     frequencies : FaultFrequencies
         Kinematic frequencies at the shaft rate analysed: ``shaft_hz``, or the record's own
         shaft lines where ``correct_speed`` moved to them (see ``shaft_lines``).
@@ -115,6 +118,16 @@ class Diagnosis:
     infogram : object
         Infogram of the squared envelope spectrum of the prewhitened signal over the combs'
         cyclic frequencies (``diagnostics.Infogram``), or None.
+    candidates : tuple of Candidate
+        Every family's evidence (:class:`diagnostics.Candidate`: its comb, family-wise
+        p-value, supporting harmonics and sidebands, the evidence no other detected family
+        explains), the detected first and those that decide before the others.
+    undecided : tuple of str
+        The detected families the evidence does not decide between, best first: none of
+        them, or more than one, holds its detection on lines that no other detected family
+        explains (the lines of one can be read as the other's harmonics or shaft-rate
+        sidebands: on the CWRU fan-end bearing BPFI - fr lies 1 % below 2 x BSF). Empty
+        where a fault is named or none is found.
     """
 
     fault: str
@@ -132,6 +145,14 @@ class Diagnosis:
     other_series: tuple[float, float] = (0.0, 0.0)
     shaft_lines: ShaftLines | None = field(default=None, repr=False)
     infogram: object | None = field(default=None, repr=False)
+    candidates: tuple[Candidate, ...] = field(default=(), repr=False)
+    undecided: tuple[str, ...] = ()
+
+    @property
+    def ambiguous(self) -> bool:
+        """Whether more than one fault family shows evidence and it does not decide between
+        them (``fault`` then names them, ``"outer or ball"``)."""
+        return len(self.undecided) > 1
 
     @property
     def speed_change(self) -> float:
@@ -505,6 +526,7 @@ def _diagnose_steady(
         # Shaft harmonics stand where the masks put them once the record's own lines
         # confirm the speed; otherwise anywhere within the slip tolerance.
         shaft_tolerance=0.0 if (correct_speed and lines.present) else slip,
+        alpha=alpha,
     )
     bands = [_score_band(name, band, kurt, y, fs, setting) for name, band, kurt, y in candidates]
     v = _verdict(bands, setting)
@@ -522,4 +544,6 @@ def _diagnose_steady(
         dominated=v.dominated,
         other_series=(v.shown.other_hz, v.shown.other_strength),
         shaft_lines=lines,
+        candidates=v.candidates,
+        undecided=v.undecided,
     )

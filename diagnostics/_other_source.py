@@ -111,6 +111,29 @@ def _holds_apart(
     lattice = (k[:, None] * g + shaft_hz * np.arange(-2, 3)[None, :]).ravel()
     distance = np.min(np.abs(s.lines_hz[:, None] - lattice[None, :]), axis=1)
     explained = distance <= 2.0 * df + _LINE_SPREAD * s.lines_hz
+    sides = s.lines_hz[None, :] + np.array([-s.sideband_hz, s.sideband_hz])[:, None]
+    off = np.min(np.abs(sides[..., None] - lattice[None, None, :]), axis=-1)
+    sb_explained = off <= 2.0 * df + _LINE_SPREAD * sides
+    return _holds_without(
+        s, b, explained, sb_explained, shaft_hz, alpha_pair, min_modulation, shaft_tolerance
+    )
+
+
+def _holds_without(
+    s: FamilyScore,
+    b: BandScore,
+    explained: np.ndarray,
+    sb_explained: np.ndarray,
+    shaft_hz: float,
+    alpha_pair: float,
+    min_modulation: float,
+    shaft_tolerance: float = 0.0,
+) -> bool:
+    """Whether a family's detection holds with the lines in ``explained`` (one boolean per
+    harmonic) and the sidebands in ``sb_explained`` (2 x K) counted as absent: its pair of
+    harmonics, or for the rolling elements a harmonic and its cage-rate sideband, judged
+    by :func:`diagnostics._evidence._detects` on the rest."""
+    df = s.resolution_hz
     p = np.where(explained, 1.0, s.p_values)
     lo = np.clip(np.floor(s.lines_hz / df).astype(int), 0, b.f.size - 2)
     masked = _shaft_mask(b.f, shaft_hz)
@@ -120,8 +143,6 @@ def _holds_apart(
         return True
     if not _sideband_pairs(s.family, s.sideband_hz, df):
         return False
-    sides = s.lines_hz[None, :] + np.array([-s.sideband_hz, s.sideband_hz])[:, None]
-    off = np.min(np.abs(sides[..., None] - lattice[None, None, :]), axis=-1)
-    p_sb = _sideband_p(s.sideband_z, s.z, off <= 2.0 * df + _LINE_SPREAD * sides)
+    p_sb = _sideband_p(s.sideband_z, s.z, sb_explained)
     p = np.where(observed & _off_shaft(s.lines_hz, shaft_hz, shaft_tolerance), p, 1.0)
     return _sideband_closeness(p, p_sb, s.modulation, alpha_pair, min_modulation)[0] >= 1.0

@@ -9,8 +9,14 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from diagnostics._candidates import (
+    Candidate,
+    _candidate,
+    _explained_by,
+    _sidebands_explained_by,
+)
 from diagnostics._comb import BandScore, FamilyScore, _Setting, series_strength
-from diagnostics._other_source import _holds_apart
+from diagnostics._other_source import _holds_apart, _holds_without
 
 FAMILIES = ("outer", "inner", "ball")
 
@@ -29,38 +35,19 @@ def _unique_evidence(score: FamilyScore, others: list[FamilyScore], shaft_hz: fl
     negative), so a line stronger than the other comb's tested harmonic in the same band is
     not that harmonic's sideband: on the CWRU fan-end bearing BPFI - fr lies 1 % below
     2 x BSF, and an inner-race fault's lines would otherwise all be the ball comb's
-    sidebands.
+    sidebands. (Strength: the modulation depth, :func:`diagnostics._candidates._explained_by`.)
     """
     keep = score.z > score.threshold
     for other in others:
-        # A race or spin comb explains its harmonics beyond those tested (3 BPFO is 2 BPFI)
-        # and their shaft sidebands; the cage-rate series only its own lines (n FTF is BPFO
-        # itself, and 4 FTF + 2 fr is BPFO again for 9 balls at d/D = 0.2).
-        cage = other.comb == "FTF"
-        reach = other.z.size if cage else 3 * other.z.size
-        offsets = np.zeros(1) if cage else shaft_hz * np.arange(-2, 3)
-        harmonics = other.found_hz * np.arange(1, reach + 1)
-        lines = (harmonics[:, None] + offsets[None, :]).ravel()
-        tol = 2.0 * max(score.resolution_hz, other.resolution_hz)
-        near = np.abs(score.lines_hz[:, None] - lines[None, :]) <= tol
-        if other.band == score.band:
-            # A sideband of a tested harmonic in the same band is no stronger than that
-            # harmonic (amplitude modulation by a window nowhere negative): a line stronger
-            # than the carrier is not its sideband.
-            # (Harmonics beyond those tested have no measured strength: no limit.)
-            strength = np.full(reach, np.inf)
-            strength[: other.z.size] = other.z
-            carrier = np.repeat(strength, offsets.size)
-            side = np.tile(offsets != 0.0, reach)
-            near &= ~(side & (score.z[:, None] > carrier[None, :]))
-        keep &= ~near.any(axis=1)
+        keep &= ~_explained_by(score, other, shaft_hz)
     return float(score.z[keep].sum())
 
 
 @dataclass(frozen=True)
 class _Verdict:
     """The verdict and what :class:`Diagnosis` reports beside it (``shown``: the band whose
-    other series is reported)."""
+    other series is reported; ``undecided``: the families the evidence does not decide
+    between, where ``fault`` names them all)."""
 
     fault: str
     band: tuple[float, float]
@@ -69,6 +56,8 @@ class _Verdict:
     best: dict[str, FamilyScore | None]
     dominated: tuple[str, ...]
     shown: BandScore
+    candidates: tuple[Candidate, ...] = ()
+    undecided: tuple[str, ...] = ()
 
 
 def _verdict(bands: list[BandScore], s: _Setting) -> _Verdict:
@@ -109,17 +98,34 @@ def _verdict(bands: list[BandScore], s: _Setting) -> _Verdict:
     detected = [sc for sc in best.values() if sc is not None and sc.detected]
     dominated = tuple(sc.family for sc in detected if not apart(sc))
     detected = [sc for sc in detected if apart(sc)]
-    unique = {
-        sc.family: _unique_evidence(sc, [o for o in detected if o is not sc], s.freqs.shaft)
-        for sc in detected
-    }
+    candidates = _candidates(best, detected, by_band, s)
+    unique = {c.family: c.unique_evidence for c in candidates if c.detected}
     scores = {fam: (best[fam].evidence if best[fam] is not None else 0.0) for fam in FAMILIES}
+    undecided: tuple[str, ...] = ()
     if detected:
-        # The verdict goes to the family whose own (unshared) lines carry most evidence.
-        ranked = sorted(detected, key=lambda sc: (unique[sc.family], sc.evidence), reverse=True)
-        win = ranked[0]
-        second = unique[ranked[1].family] if len(ranked) > 1 else 0.0
-        fault, band = win.family, win.band
+        # The verdict goes to the family whose detection holds on lines no other detected
+        # family explains, where only one does; where none or several do, the evidence
+        # does not decide between them (ranked by the evidence of their own lines).
+        ranked = [c for c in candidates if c.detected]
+        deciding = [c for c in ranked if c.decides]
+        # Where several hold on their own lines, the best decides only where its own lines'
+        # evidence (the sum of their normalised values, each about -ln of its p-value)
+        # exceeds every other's by -ln(alpha_pair): its lines are at least 1 / alpha_pair
+        # times less likely by chance, the level at which a pair detects at all.
+        margin = -math.log(s.alpha_pair)
+        close = (
+            [c for c in deciding if c.unique_evidence > deciding[0].unique_evidence - margin]
+            if deciding
+            else []
+        )
+        if len(close) == 1:
+            win = best[close[0].family]
+        else:
+            win = best[ranked[0].family]
+            undecided = tuple(c.family for c in (close or ranked))
+        second = max((unique[f] for f in unique if f != win.family), default=0.0)
+        band = win.band
+        fault = " or ".join(undecided) if undecided else win.family
         total = unique[win.family] + second
         confidence = unique[win.family] / total if total > 0 else 0.5
     else:
@@ -137,4 +143,51 @@ def _verdict(bands: list[BandScore], s: _Setting) -> _Verdict:
         confidence = 1.0 - (closeness[nearest.family] if nearest is not None else 0.0)
     # The other series shown: in the band of the first family it set aside, else the verdict's.
     shown = by_band[best[dominated[0]].band if dominated else band]
-    return _Verdict(fault, band, float(confidence), scores, best, dominated, shown)
+    return _Verdict(
+        fault, band, float(confidence), scores, best, dominated, shown, candidates, undecided
+    )
+
+
+def _in_band(other: FamilyScore, band: BandScore) -> FamilyScore:
+    """A detected family's comb as scored in ``band``, where it found the same fundamental
+    there (within two bins at its top harmonic): its lines' strengths then compare with
+    those of the band's other combs (a sideband is no stronger than its carrier); else the
+    comb as detected, in its own band."""
+    there = band.families.get(other.comb)
+    if there is None or there.band == other.band:
+        return other
+    tol = 2.0 * max(there.resolution_hz, other.resolution_hz) / max(there.z.size, 1)
+    return there if abs(there.found_hz - other.found_hz) <= tol else other
+
+
+def _candidates(
+    best: dict[str, FamilyScore | None],
+    detected: list[FamilyScore],
+    by_band: dict[tuple[float, float], BandScore],
+    s: _Setting,
+) -> tuple[Candidate, ...]:
+    """Every family's :class:`Candidate`, ranked: the detected first, those whose detection
+    holds on their own lines before the others, then by the evidence of their own lines."""
+    shaft = s.freqs.shaft
+    out = []
+    for sc in best.values():
+        if sc is None:
+            continue
+        is_detected = any(sc is d for d in detected)
+        others = [_in_band(o, by_band[sc.band]) for o in detected if o is not sc]
+        explained = {o.family: _explained_by(sc, o, shaft) for o in others}
+        decides = False
+        if is_detected:
+            lines = np.zeros(sc.z.size, dtype=bool)
+            sides = np.zeros((2, sc.z.size), dtype=bool)
+            for o in others:
+                lines |= explained[o.family]
+                sides |= _sidebands_explained_by(sc, o, shaft)
+            decides = not lines.any() or _holds_without(
+                sc, by_band[sc.band], lines, sides, shaft, s.alpha_pair, s.min_modulation,
+                s.shaft_tolerance,
+            )  # fmt: skip
+        tests = s.alpha / s.alpha_pair
+        out.append(_candidate(sc, is_detected, explained, decides, tests))
+    out.sort(key=lambda c: (c.detected, c.decides, c.unique_evidence, c.evidence), reverse=True)
+    return tuple(out)

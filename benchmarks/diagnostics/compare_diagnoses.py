@@ -14,7 +14,10 @@ whose ``diagnostics`` is that checkout's, diagnoses the same records as this che
 
 Each diagnosis is reduced to plain data (every dataclass field, arrays as their bytes,
 floats as their hex) and the two sets compared; it prints each diagnosis that differs and
-the first field where it does, and exits with status 1 if any does. Usage::
+the first field where it does, and exits with status 1 if any does. Where the verdict
+itself moved (``fault``), the line says from what to what (``outer -> outer or ball``),
+and a last line counts the verdicts moved: which diagnoses a change moved, not only
+which numbers. Usage::
 
     python benchmarks/diagnostics/compare_diagnoses.py DIR [DIR ...] [--baseline REV]
     python benchmarks/diagnostics/compare_diagnoses.py --synthetic-only [--baseline REV]
@@ -80,6 +83,13 @@ def first_difference(a, b, where: str = "") -> str:
                 return found
         return ""
     return "" if a == b else (where or "(value)")
+
+
+def verdict(diagnosis) -> str:
+    """The verdict (``fault``) of a diagnosis reduced by :func:`plain` ('?' where none)."""
+    if isinstance(diagnosis, tuple) and len(diagnosis) == 2 and isinstance(diagnosis[1], dict):
+        return str(diagnosis[1].get("fault", "?"))
+    return "?"
 
 
 def snapshot(folders: list[str], synthetic: bool) -> dict:
@@ -190,7 +200,7 @@ def main(argv=None) -> int:
         run_snapshot(base, folders, synthetic, files["baseline"])
         run_snapshot(ROOT, folders, synthetic, files["this checkout"])
         before, after = (pickle.loads(f.read_bytes()) for f in files.values())
-    differ = 0
+    differ = verdicts = 0
     for key in sorted(before.keys() | after.keys(), key=str):
         if key not in before or key not in after:
             print(f"{key}: only in {'this checkout' if key in after else 'the baseline'}")
@@ -198,10 +208,15 @@ def main(argv=None) -> int:
             continue
         where = first_difference(before[key], after[key])
         if where:
-            print(f"{key}: differs first at {where}")
+            old, new = verdict(before[key]), verdict(after[key])
+            moved = f"; verdict {old} -> {new}" if old != new else ""
+            print(f"{key}: differs first at {where}{moved}")
             differ += 1
+            verdicts += bool(moved)
     total = len(before.keys() | after.keys())
     print(f"{differ} of {total} diagnoses differ" if differ else f"{total} diagnoses identical")
+    if differ:
+        print(f"{verdicts} of {total} verdicts moved")
     return 1 if differ else 0
 
 

@@ -133,7 +133,7 @@ def _figures(x, fs: float, d: Diagnosis, notch: list[float], raw, out: Path) -> 
     events = None
     orders = d.domain == "order"
     unit = "orders" if orders else "Hz"
-    if d.fault != "none" and not orders:
+    if d.fault in ("outer", "inner", "ball") and not orders:
         rate = {"outer": freqs.bpfo, "inner": freqs.bpfi, "ball": 2.0 * freqs.bsf}[d.fault]
         times = impact_times(x[:n_show], fs, d.band, rate)
         events = {f"{d.fault} impacts": times}
@@ -400,6 +400,8 @@ def run_analyze(args: argparse.Namespace) -> int:
             d.infogram, "negentropy", _band_used(d, "infogram"), _band_used(d, "infogram, second")
         ),
         "verdict": d.fault,
+        "undecided": list(d.undecided),
+        "candidates": [_candidate_summary(c) for c in d.candidates],
         "confidence": d.confidence,
         "band_hz": list(d.band),
         "band_name": d.best_band.name,
@@ -417,6 +419,23 @@ def run_analyze(args: argparse.Namespace) -> int:
     write_analyze_report(out, summary, _speed_check_lines(d, unit), _evidence_lines(d, unit))
     _print_summary(sig, rpm, d, out, len(figures) + 2)
     return 0
+
+
+def _candidate_summary(c) -> dict:
+    """One :class:`diagnostics.Candidate` for summary.json."""
+    return {
+        "family": c.family,
+        "comb": c.comb,
+        "band_hz": list(c.band),
+        "p_value": c.p_value,
+        "evidence": c.evidence,
+        "unique_evidence": c.unique_evidence,
+        "harmonics": list(c.harmonics),
+        "sidebands": list(c.sidebands),
+        "detected": c.detected,
+        "decides": c.decides,
+        "explained_by": list(c.explained_by),
+    }
 
 
 def _band_used(d: Diagnosis, name: str) -> tuple[float, float] | None:

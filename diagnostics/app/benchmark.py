@@ -32,6 +32,9 @@ __all__ = [
 ]
 
 VERDICTS = ("outer", "inner", "ball", "none")
+FAMILIES = ("outer", "inner", "ball")
+# The column of a verdict that names more than one family (the evidence did not decide).
+UNDECIDED = "undecided"
 # A speed moved by the record's shaft lines is reported from this relative change on.
 _SPEED_SHOWN = 5e-4
 
@@ -76,6 +79,24 @@ class BenchmarkResult:
     @property
     def correct(self) -> bool:
         return self.verdict == self.expected
+
+    @property
+    def undecided(self) -> bool:
+        """Whether the verdict names several families (``"outer or ball"``): the evidence
+        did not decide between them."""
+        return " or " in self.verdict
+
+    @property
+    def wrong(self) -> bool:
+        """Whether the verdict names one fault family, not the record's: the error that
+        sends an engineer to the wrong part (worse than a miss or an undecided verdict)."""
+        return self.verdict in FAMILIES and self.verdict != self.expected
+
+    @property
+    def column(self) -> str:
+        """The table column of the verdict: a family, ``"none"``, ``"undecided"`` or
+        ``"error"``."""
+        return UNDECIDED if self.undecided else self.verdict
 
 
 def find_records(folder) -> list[Path]:
@@ -218,28 +239,32 @@ def summary_table(results: list[BenchmarkResult]) -> str:
     >>> r = [BenchmarkResult(Path("a.mat"), "MFPT", "inner", "inner", 1.0),
     ...      BenchmarkResult(Path("b.mat"), "MFPT", "inner", "none", 0.9)]
     >>> print(summary_table(r))
-    set   fault  records  correct  outer  inner   ball   none  error
-    MFPT  inner        2      1/2      0      1      0      1      0
+    set   fault  records  correct  outer  inner   ball   none  undecided  error
+    MFPT  inner        2      1/2      0      1      0      1          0      0
     all                2      1/2
+    wrong fault named: 0 of 2
+
+    ``undecided``: verdicts naming several families (``"outer or ball"``), the evidence
+    not deciding between them; a wrong fault named is a single family not the record's.
     """
     groups: dict[tuple[str, str], Counter] = defaultdict(Counter)
     for r in results:
-        groups[(r.group, r.expected)][r.verdict] += 1
+        groups[(r.group, r.expected)][r.column] += 1
     order = {v: i for i, v in enumerate(VERDICTS)}
     keys = sorted(groups, key=lambda k: (k[0], order.get(k[1], 9)))
     width = max([len("set")] + [len(k[0]) for k in keys])
-    head = f"{'set':<{width}}  fault  records  correct  " + "  ".join(
-        f"{v:>5}" for v in (*VERDICTS, "error")
-    )
+    columns = (*VERDICTS, UNDECIDED, "error")
+    head = f"{'set':<{width}}  fault  records  correct  " + "  ".join(f"{v:>5}" for v in columns)
     lines = [head]
     for group, fault in keys:
         counts = groups[(group, fault)]
         n = sum(counts.values())
-        cells = "  ".join(f"{counts[v]:>5}" for v in (*VERDICTS, "error"))
+        cells = "  ".join(f"{counts[v]:>{max(5, len(v))}}" for v in columns)
         lines.append(f"{group:<{width}}  {fault:<5}  {n:>7}  {f'{counts[fault]}/{n}':>7}  {cells}")
     total = len(results)
     right = sum(r.correct for r in results)
     lines.append(f"{'all':<{width}}  {'':<5}  {total:>7}  {f'{right}/{total}':>7}")
+    lines.append(f"wrong fault named: {sum(r.wrong for r in results)} of {total}")
     return "\n".join(line.rstrip() for line in lines)
 
 

@@ -44,8 +44,14 @@ _SUPPORTING_P = 0.01
 
 def verdict_words(fault: str) -> str:
     """The verdict as ``analyze`` prints it: ``"outer fault"``, ``"no bearing fault
-    found"``."""
-    return "no bearing fault found" if fault == "none" else f"{fault} fault"
+    found"``, or where the evidence does not decide between families (``fault`` names
+    them, ``diagnostics.Diagnosis.undecided``) ``"outer or ball: the evidence does not
+    decide"``."""
+    if fault == "none":
+        return "no bearing fault found"
+    if " or " in fault:
+        return f"{fault}: the evidence does not decide"
+    return f"{fault} fault"
 
 
 def _g(value, digits: int = 4) -> str:

@@ -9,7 +9,7 @@ import pickle
 import numpy as np
 import pytest
 
-from benchmarks.diagnostics.compare_diagnoses import first_difference, main, plain
+from benchmarks.diagnostics.compare_diagnoses import first_difference, main, plain, verdict
 from benchmarks.diagnostics.other_source_scenarios import scenario
 from diagnostics import diagnose
 
@@ -41,6 +41,14 @@ def test_the_first_field_that_differs_is_named(diagnosis):
     assert first_difference(plain(diagnosis), plain(changed)) == ".bands[0].families.BPFO.z"
     shorter = dataclasses.replace(diagnosis, bands=diagnosis.bands[:1])
     assert first_difference(plain(diagnosis), plain(shorter)) == ".bands (length)"
+
+
+def test_the_verdict_moved_is_read_from_the_plain_data(diagnosis):
+    """Which diagnoses a change moved: the verdict of each side, from its plain data."""
+    moved = dataclasses.replace(diagnosis, fault="outer or ball", undecided=("outer", "ball"))
+    assert verdict(plain(diagnosis)) == diagnosis.fault
+    assert verdict(plain(moved)) == "outer or ball"
+    assert verdict([1, 2]) == "?"
 
 
 @pytest.mark.parametrize(

@@ -106,7 +106,7 @@ NO_RECORD = {
     "shaft_angle", "read_signal", "read_speed_profile",
 }  # fmt: skip
 RESULTS = {
-    "BandScore", "DefectSize", "Diagnosis", "FamilyScore", "Infogram", "Kurtogram",
+    "BandScore", "Candidate", "DefectSize", "Diagnosis", "FamilyScore", "Infogram", "Kurtogram",
     "OrderTrack", "Separation", "ShaftLines", "Signal", "SpectralKurtosis", "SpeedEstimate",
 }  # fmt: skip
 # Results computed through the record's shaft-line fit (log powers): equal to rounding only.
