@@ -62,7 +62,9 @@ def nodal_patch(
     -------
     dict
         ``force_N`` (sum), ``centre_m`` (force centroid), ``half_width_m`` (``2 sqrt`` of
-        the force-weighted variance of ``s`` less ``spread``), ``nodal_half_width_m``
+        the force-weighted variance of ``s`` less ``spread``; NaN where that variance is
+        no more than ``spread`` > 0: the patch is narrower than the nodes resolve, and a
+        width of 0 would be a reading, not the absence of one), ``nodal_half_width_m``
         (without the correction), ``peak_pressure_Pa`` (largest ``f / (h t)``) and
         ``nodes`` (nodes carrying force).
     """
@@ -78,7 +80,7 @@ def nodal_patch(
     return {
         "force_N": total,
         "centre_m": centre,
-        "half_width_m": 2.0 * math.sqrt(max(var - spread, 0.0)),
+        "half_width_m": 2.0 * math.sqrt(var - spread) if var > spread or spread <= 0 else math.nan,
         "nodal_half_width_m": 2.0 * math.sqrt(var),
         "peak_pressure_Pa": float(np.max(f / (h * thickness))),
         "nodes": int(np.count_nonzero(f)),

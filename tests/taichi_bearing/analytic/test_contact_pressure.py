@@ -32,6 +32,20 @@ def test_one_loaded_node_has_no_width_and_its_mean_pressure():
     assert patch["peak_pressure_Pa"] == pytest.approx(1e4 / (5e-4 * 0.05))
 
 
+def test_a_patch_the_nodes_do_not_resolve_has_no_width():
+    """With the nodal kernel's spread taken off, a patch whose forces spread no more than
+    the kernel does (one loaded node; two equal nodes h apart against a spread of h^2 / 4)
+    has no measured width (NaN, left out of passage statistics), never a width of 0; one
+    just wider has its width."""
+    h, t = 5e-4, 0.05
+    one = nodal_patch(np.array([0.0, h]), np.array([1e4, 0.0]), np.full(2, h), t, h**2 / 6)
+    assert math.isnan(one["half_width_m"]) and one["nodal_half_width_m"] == 0.0
+    two = nodal_patch(np.array([0.0, h]), np.array([1e4, 1e4]), np.full(2, h), t, h**2 / 4)
+    assert math.isnan(two["half_width_m"])  # variance h^2 / 4 exactly: nothing left
+    wider = nodal_patch(np.array([0.0, h]), np.array([1e4, 1e4]), np.full(2, h), t, h**2 / 6)
+    assert wider["half_width_m"] == pytest.approx(2 * math.sqrt(h**2 / 4 - h**2 / 6))
+
+
 def hat_forces(b, p0, t, h, offset):
     """Nodal forces of the Hertz pressure carried to nodes ``h`` apart by the linear
     shape functions (hats), the nodes shifted by ``offset`` from the patch's centre."""

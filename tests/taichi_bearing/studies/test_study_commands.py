@@ -271,10 +271,11 @@ def test_passages_on_the_coarse_case(tmp_path):
     assert sorted(df["first_roller_angle_deg"]) == [-2.5, -2.3]
     assert (df["roller"] == 0).all() and (df["exit_force_peak_ratio"] > 1).all()
     runs = pd.read_csv(out / "runs.csv")
-    # the coarse case's 3 mm surface elements do not resolve a ~0.2 mm patch: the nodal
-    # kernel's spread (h^2 / 6) exceeds the measured variance and the deconvolved width is
-    # clipped at 0 (analytic.contact_pressure.nodal_patch)
-    assert (runs["q_max_N"] > 0).all() and (runs["contact_half_width_m"] >= 0).all()
+    # the coarse case's 1 mm surface elements do not resolve a ~0.2 mm patch: where the
+    # nodal kernel's spread (h^2 / 6) exceeds the measured variance the width is not
+    # measured (NaN, analytic.contact_pressure.nodal_patch), never 0
+    width = runs["contact_half_width_m"]
+    assert (runs["q_max_N"] > 0).all() and (width.isna() | (width > 0)).all()
 
 
 @pytest.mark.slow
@@ -289,9 +290,11 @@ def test_convergence_on_the_coarse_case(tmp_path):
     t = pd.read_csv(out / "convergence.csv")
     q = t[t["quantity"] == "q_max_N"]["median"].to_numpy()
     assert len(q) == 3 and np.all(q > 0)
-    # a stiffer penalty: the patch of the same force no wider
+    # a stiffer penalty: the patch of the same force no wider (unresolved, NaN, where the
+    # nodes cannot tell: a patch the softest penalty leaves unresolved stays so)
     b = t[t["quantity"] == "contact_half_width_m"]["median"].to_numpy()
-    assert b[-1] <= b[0]
+    assert np.isnan(b[-1]) or b[-1] <= b[0]
+    assert not np.isnan(b[0]) or np.isnan(b[-1])
     assert "## Verdict" in (out / "convergence_report.md").read_text()
 
 
