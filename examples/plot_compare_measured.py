@@ -52,7 +52,7 @@ print(f"status {summary['status']}: {len(summary['events'])} roller passages rec
 # %%
 # The simulated record
 # --------------------
-# :func:`taichi_bearing.commands.compare.simulated_record` reads the run folder: the
+# ``taichi_bearing.commands.compare.simulated_record`` reads the run folder: the
 # acceleration its checks analysed (radial, at the sensor on the adapter), the sampling
 # rate, the shaft speed, BPFO, and the re-stressing (exit) times, which the figures mark.
 run, _, simulated = simulated_record(work / "coarse_spall")

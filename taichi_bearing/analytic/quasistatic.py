@@ -205,7 +205,8 @@ def solve_load_distribution(
     spall_angles : array_like, optional
         Angle of the spall's centre at each cage angle, rad from 12 o'clock (an
         inner-race spall turns with the shaft, so its position relative to the rollers
-        changes with time: :func:`inner_passage_angles`); default: where ``spall`` is.
+        changes with time: :func:`taichi_bearing.analytic.inner_race.passage_angles`);
+        default: where ``spall`` is.
 
     Returns
     -------

@@ -1,7 +1,7 @@
 """Operating points judged by their physics before any work: the surface speed against
 the material's wave speeds, the most loaded contact's pressure against what an elastic solid
-carries (and, warned, against the static capacity). Part of :func:`~taichi_bearing.case.
-validate.check_case`."""
+carries (and, warned, against the static capacity). Part of
+:func:`~taichi_bearing.case.validate.check_case`."""
 
 from __future__ import annotations
 
@@ -42,7 +42,7 @@ pressure (:data:`STATIC_CAPACITY_PRESSURE`) and three times the ~3.5 GPa at whic
 bearing steel first yields under a line contact. A run of it describes no bearing."""
 
 STATIC_CAPACITY_PRESSURE = 4.0e9
-"""Hertz peak pressure of a roller bearing's basic static load rating, Pa (ISO 76: 4000
+"""Hertz peak pressure of a roller bearing's basic static load rating, Pa (ISO 76 sets 4000
 MPa at the centre of the most loaded roller contact, which leaves a permanent set of
 1e-4 of the roller diameter). Above it a steel bearing is overloaded: warned
 (:class:`ContactPressureWarning`) rather than refused, since an overload may be what is

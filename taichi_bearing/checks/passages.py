@@ -143,7 +143,7 @@ def detect_spall_events(
     not events; :func:`spall_passages` lists every passage with its load.
 
     On either raceway each crossing of a roller with the spall is one passage, found in
-    the samples within half a turn of it (:func:`_turns`), so a long record holds several
+    the samples within half a turn of it (``_turns``), so a long record holds several
     passages of one roller, and rollers inside an extended spall at the same time are
     each found from their own force. A passage counts when the record holds its
     approach and its exit edge.

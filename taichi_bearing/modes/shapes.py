@@ -104,7 +104,7 @@ def kinetic_shares(mesh: Mesh, mass: np.ndarray, shape: np.ndarray) -> np.ndarra
 
 def ring_harmonics(body: BodyGeometry, shape: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Fourier amplitudes ``sqrt(a_n^2 + b_n^2)`` of the radial and the tangential
-    displacement on a body's circle, harmonics ``n = 0 .. body.n_max``."""
+    displacement on a body's circle, harmonics n from 0 to ``body.n_max``."""
     u = shape[body.nodes]
     c, s = np.cos(body.theta), np.sin(body.theta)
     coef = body.projector @ np.stack([u[:, 0] * c + u[:, 1] * s, -u[:, 0] * s + u[:, 1] * c], 1)

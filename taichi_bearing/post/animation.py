@@ -293,7 +293,7 @@ def animate_run(
     Parameters
     ----------
     run_dir : str or path-like
-        A run folder with frames (:data:`taichi_bearing.output.run_folder.FRAMES_DIR`).
+        A run folder with frames (:data:`taichi_bearing.output.layout.FRAMES_DIR`).
     out : str or path-like
         Output file (written atomically).
     fmt : {'gif', 'mp4'}

@@ -242,8 +242,9 @@ def run_members(
     balance: the rows its case run alone writes. A member that stops (NaN, an inverted
     element, the balance) is held still and its error kept in its result
     (``RunResult.error``); the others go on. Frames and checkpoints (and ``resume``) are
-    for one model only. ``sample`` (an :class:`~taichi_bearing.simulation.members.
-    EnsembleSample`) is refreshed before the members' recorders read each sample.
+    for one model only. ``sample`` (an
+    :class:`~taichi_bearing.simulation.members.EnsembleSample`) is refreshed before the
+    members' recorders read each sample.
     """
     if not config.duration > 0:
         raise InputError(f"run.duration: must be positive, got {config.duration!r}")

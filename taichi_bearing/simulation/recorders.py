@@ -52,8 +52,9 @@ class RollerMotionRecorder(Recorder):
 
     The centre is the mass centroid of the roller's nodes; the spin is
     ``sum m r x (v - v_c) / sum m |r|^2`` about it (exact for a rigid roller). Both are
-    computed on the model's device (:class:`~taichi_bearing.simulation.roller_readout.
-    RollerReadout`): a sample reads three numbers a roller.
+    computed on the model's device
+    (:class:`~taichi_bearing.simulation.roller_readout.RollerReadout`): a sample reads
+    three numbers a roller.
 
     Parameters
     ----------

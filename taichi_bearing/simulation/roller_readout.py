@@ -3,7 +3,7 @@ that an output sample reads three numbers a roller instead of every node's posit
 velocity.
 
 On an H200 a third of an output sample was reading roller motion back to the host and
-summing it with NumPy (issue 45); an ensemble of N members would read N times as much.
+summing it with NumPy; an ensemble of N members would read N times as much.
 The sums here run over each roller's nodes in the order the NumPy read-out took them
 (:func:`taichi_bearing.simulation.starter.roller_kinematics_matrix`), one roller a thread.
 """

@@ -25,7 +25,7 @@ def arc_frame(c: ti.template(), s, xi, x: ti.template()):
 @ti.func
 def patch_overlap(c: ti.template(), q, i, s, pen0, xi_raw, x: ti.template()):
     """Penetration of the query's tributary arc (half-way to each neighbour) into
-    segment s's arc, ``p(r) = pen0 - r (u . n) - (kappa_q + kappa_s) r^2 / 2`` along
+    segment s's arc, ``p(r) = pen0 - r dot(u, n) - (kappa_q + kappa_s) r^2 / 2`` along
     the arc length r from the node (u: the query surface's direction, reversed).
 
     Returns (mean of max(0, p) over the patch, mean of max(0, p)^2 / 2, largest p):

@@ -253,7 +253,7 @@ def critical_time_steps(omega: np.ndarray, beta: np.ndarray | float = 0.0) -> np
 def hourglass_stiffness(
     geo: ElementGeometry, eprime: np.ndarray, thickness: float, scale: float = 1.0
 ) -> np.ndarray:
-    """``k = scale (2/3) E' t A (b . b)``: bending-exact for square elements."""
+    """``k = scale (2/3) E' t A dot(b, b)``: bending-exact for square elements."""
     bb = np.sum(geo.b**2, axis=(1, 2))
     return scale * (2.0 / 3.0) * eprime * thickness * geo.area * bb
 

@@ -100,7 +100,7 @@ class Model(ModelState):
         The elements' constitutive law (:mod:`taichi_bearing.solver.laws.material`);
         default St Venant-Kirchhoff.
     members : int
-        Independent members of an ensemble (:mod:`taichi_bearing.solver.ensemble`) the
+        Independent members of an ensemble (:mod:`taichi_bearing.simulation.ensemble`) the
         mesh holds one after another: member ``k`` owns nodes ``k nn .. (k+1) nn - 1`` and
         elements ``k ne .. (k+1) ne - 1`` (``nn``, ``ne``: the mesh's counts over
         ``members``), which touch no other member's nodes. Each has its own energies,

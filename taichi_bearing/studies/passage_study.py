@@ -7,7 +7,7 @@ from runs of one case whose first roller starts at slightly different angles
 (:func:`spread_angles`); the run's checks have already put each passage's signature in
 ``summary.json`` ``events``.
 
-:data:`QUANTITIES` are what the convergence study compares (issue 18): the preload's
+:data:`QUANTITIES` are what the convergence study compares: the preload's
 (static, one value per run, from ``preload.json``), each passage's (dynamic, from the
 events) and the spall size estimated from the run's acceleration (dynamic, one per run).
 The zone-edge share is the smallest force of a loaded roller (one carrying more than

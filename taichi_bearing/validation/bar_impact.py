@@ -1,6 +1,5 @@
 """An elastic bar striking a rigid wall, against the one-dimensional wave solution: the
-contact's pressure plateau and duration, and what the penalty adds to them (issue 43
-item 7a).
+contact's pressure plateau and duration, and what the penalty adds to them.
 
 A bar of length ``L`` and Poisson's ratio 0 in plane strain carries one-dimensional waves
 (no lateral coupling) at ``c = sqrt(E / rho)``. Striking a rigid wall at ``v0`` it is

@@ -1,5 +1,5 @@
-"""A cylinder pressed onto a flat block, against Hertz (issue 43 item 7c): the contact
-patch's half-width and peak pressure as the mesh is refined at a fixed penalty.
+"""A cylinder pressed onto a flat block, against Hertz: the contact patch's half-width and
+peak pressure as the mesh is refined at a fixed penalty.
 
 A cylinder cap of radius R = 10 mm on a 4 x 4 mm block in plane strain (thickness 1 m),
 both steel, under the line load that gives a Hertz half-width of 0.2 mm

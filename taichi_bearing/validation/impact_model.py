@@ -1,7 +1,7 @@
 """Impact of an elastic cylinder on an elastic block in plane strain: the explicit model
 with penalty contact against the quasi-static Hertz impact solution.
 
-The 2-D counterpart of a sphere-on-plate impact check (issue 18, item 5). A cylinder cap
+The 2-D counterpart of a sphere-on-plate impact check. A cylinder cap
 of radius R, under a rigid layer that carries most of the moving mass, is thrown at
 ``v0`` onto a block held at its bottom face. Friction and contact damping are off.
 

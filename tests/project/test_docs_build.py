@@ -6,8 +6,10 @@ is not executed here (``-D plot_gallery=0``): tests/test_examples.py runs its sc
 
 from __future__ import annotations
 
+import hashlib
 import importlib.util
 import os
+import re
 import subprocess
 import sys
 from pathlib import Path
@@ -45,7 +47,42 @@ def test_docs_build_without_warnings(tmp_path):
             assert f'id="python-m-{program}-{command}"' in cli, (program, command)
     reference = (out / "guide" / "case_reference.html").read_text(encoding="utf-8")
     assert "pitch_diameter_mm" in reference and "surface_size_mm" in reference
-    api = (out / "api" / "diagnostics.html").read_text(encoding="utf-8")
+    # the API: a summary table on the package page, a page for each public object
+    package = (out / "api" / "diagnostics.html").read_text(encoding="utf-8")
+    assert 'class="autosummary' in package and "generated/diagnostics.kurtogram.html" in package
+    api = (out / "api" / "generated" / "diagnostics.kurtogram.html").read_text(encoding="utf-8")
     assert 'id="diagnostics.kurtogram"' in api
+    module = (out / "api" / "generated" / "taichi_bearing.api.html").read_text(encoding="utf-8")
+    assert "taichi_bearing.api.run.html" in module
+    import diagnostics  # every public name of the namespace under a topic of its page
+
+    missing = [n for n in diagnostics.__all__ if f"generated/diagnostics.{n}.html" not in package]
+    assert not missing, f"add to a table of docs/api/diagnostics.rst: {missing}"
     assert (out / "auto_examples" / "plot_diagnose_record.html").is_file()
     assert "energy_balance_error" in (out / "guide" / "run_folder.html").read_text("utf-8")
+
+    # results: one title a page, no tracker label or commit in a title, every committed
+    # figure shown on a page (Sphinx copies each figure it shows into _images/)
+    titles = {}
+    for page in (out / "results").rglob("*.html"):
+        title = re.search(r"<title>(.*?)</title>", page.read_text("utf-8"), re.S)[1]
+        titles.setdefault(" ".join(title.split()), []).append(page.name)
+        assert not re.search(r"issue \d|\b[0-9a-f]{7}\b", title), title
+    assert all(len(pages) == 1 for pages in titles.values()), titles
+    shown = {_digest(p) for p in (out / "_images").iterdir()}
+    for figure in (ROOT / "docs" / "results").rglob("*.png"):
+        assert _digest(figure) in shown, f"{figure.relative_to(ROOT)} is on no page"
+
+
+def _digest(path: Path) -> str:
+    return hashlib.sha1(path.read_bytes()).hexdigest()
+
+
+def test_no_machine_path_in_a_committed_report():
+    """The reports kept in docs/results/ name run folders as the commands write them
+    (``runs/NAME``), not the temporary folder of the machine that ran them."""
+    machine = re.compile(r"(?<![\w.])/(tmp|home|root|work|check)/")
+    for path in (ROOT / "docs" / "results").rglob("*"):
+        if path.suffix in (".md", ".html", ".json", ".csv", ".yaml"):
+            found = machine.search(path.read_text(encoding="utf-8"))
+            assert found is None, f"{path.relative_to(ROOT)}: {found[0]}"

@@ -66,7 +66,7 @@ class ContactLaw:
 
     name: ClassVar[str] = ""
     bounded: ClassVar[bool] = True
-    """Whether the law's springs enter the stable step (False: the law follows it)."""
+    """Whether the law's springs enter the stable step (with False, the law follows it)."""
     side: ClassVar[str] = "segment"
     """Whose set-up stiffness :meth:`stiffness` receives in node-to-segment contact:
     ``"segment"``, the touched master segment's; ``"query"``, the querying node's own
@@ -103,7 +103,7 @@ class ContactLaw:
         """Per-node bound on the springs and dashpots this law adds in node-to-segment
         contact (for the stable step), from each pass's (query surface segments, master
         segments, their stiffness); None when the law follows the step.
-        :func:`~taichi_bearing.solver.contact_setup.penalty_bounds` for a linear spring."""
+        :func:`~taichi_bearing.solver.laws.contact.penalty_bounds` for a linear spring."""
         if not self.bounded:
             return None
         return penalty_bounds(model.mesh.nodes, passes, model.mass_np, self.zeta)
