@@ -163,7 +163,7 @@ class Kurtogram:
     freqs : numpy.ndarray
         Centre frequency of each column in Hz.
     level : float
-        Level of the best band; its bandwidth is ``fs * 2**-(level + 1)``.
+        Level of the best band, :math:`l`; its bandwidth is :math:`f_s 2^{-(l + 1)}`.
     fc : float
         Centre frequency of the best band in Hz.
     bw : float
@@ -223,7 +223,8 @@ def kurtogram(x, fs: float, nlevel: int = 7) -> Kurtogram:
     Parameters
     ----------
     x : array_like
-        1-D real signal; at least ``2**(nlevel + 7)`` samples (the reference's limit).
+        1-D real signal; at least :math:`2^{n + 7}` samples, :math:`n` = ``nlevel`` (the
+        reference's limit).
     fs : float
         Sampling rate in Hz.
     nlevel : int
@@ -272,7 +273,7 @@ def infogram(
     Parameters
     ----------
     x : array_like
-        1-D real signal; at least ``2**(nlevel + 7)`` samples.
+        1-D real signal; at least :math:`2^{n + 7}` samples, :math:`n` = ``nlevel``.
     fs : float
         Sampling rate in Hz.
     nlevel : int

@@ -94,8 +94,8 @@ class BenchmarkResult:
 
     @property
     def column(self) -> str:
-        """The table column of the verdict: a family, ``"none"``, ``"undecided"`` or
-        ``"error"``."""
+        """The verdict's column in the table (a family, ``"none"``, ``"undecided"`` or
+        ``"error"``)."""
         return UNDECIDED if self.undecided else self.verdict
 
 

@@ -158,7 +158,7 @@ class RecordLabel:
 
     @property
     def group(self) -> str:
-        """Row of a benchmark table: the set, its rate and the end."""
+        """The benchmark table row the record counts in (its set, its rate and the end)."""
         if self.source == "MFPT":
             return "MFPT"
         rate = f" {self.fs / 1000:g}k" if self.fs else ""
