@@ -159,6 +159,9 @@ def test_entry_and_exit_happen_where_the_geometry_puts_them(coarse_run):
     assert t_exit_edge - lead - tol <= ev["first_impact_time_s"] <= t_exit_edge + tol
 
 
+# ~30 s: the multi-rate resume below checks the same path bit for bit, and test_run_cli's
+# resume after kill -9 a single-rate one end to end (run -m slow when touching resume)
+@pytest.mark.slow
 def test_resume_continues_like_the_uninterrupted_run(coarse_run, tmp_path):
     from taichi_bearing.pipeline import run_case
 
