@@ -257,8 +257,9 @@ def test_piped_run_logs_the_preload_and_the_transient_periodically(tmp_path):
 
 def test_quiet_run_prints_no_progress(tmp_path):
     # a looser preload and a shorter transient than the piped run: only silence is checked
-    proc = _run(*_small_run(0.1), "--set", "preload.ke_ratio_tol=0.01", "--quiet",
-                "--out", str(tmp_path / "run"))  # fmt: skip
+    proc = _run(*_small_run(0.1), "--set", "preload.ke_ratio_tol=0.01",
+                "--set", "run.frame_interval_ms=0.1", "--set", "run.checkpoint_interval_ms=0.1",
+                "--quiet", "--out", str(tmp_path / "run"))  # fmt: skip
     assert proc.returncode == 0, proc.stderr
     stages = ("mesh:", "model:", "preload:", "transient:", "checks:", "results in")
     shown = [line for line in proc.stderr.splitlines() if line.startswith(stages)]

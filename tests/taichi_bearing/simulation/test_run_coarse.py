@@ -159,9 +159,6 @@ def test_entry_and_exit_happen_where_the_geometry_puts_them(coarse_run):
     assert t_exit_edge - lead - tol <= ev["first_impact_time_s"] <= t_exit_edge + tol
 
 
-# ~30 s: the multi-rate resume below checks the same path bit for bit, and test_run_cli's
-# resume after kill -9 a single-rate one end to end (run -m slow when touching resume)
-@pytest.mark.slow
 def test_resume_continues_like_the_uninterrupted_run(coarse_run, tmp_path):
     from taichi_bearing.pipeline import run_case
 
@@ -214,6 +211,10 @@ def coarse_multirate_run(tmp_path_factory):
     return case, out, summary, read_histories(out)
 
 
+# Multi-rate stepping is opt-in (run.multirate_levels): its solver-level tests
+# (test_solver_multirate) run in CI; this bearing-level run and its resume (~80 s) with
+# -m slow, when touching multirate stepping.
+@pytest.mark.slow
 def test_multirate_run_keeps_the_passage_and_the_energy(coarse_run, coarse_multirate_run):
     """Multi-rate stepping (up to 4 steps) on the coarse case: whole cycles per sample,
     the energy balanced, the same roller de-stressing at the same time and leaving the
@@ -236,6 +237,7 @@ def test_multirate_run_keeps_the_passage_and_the_energy(coarse_run, coarse_multi
     assert cage == pytest.approx(ref_hist["cage_angle_rad"].iloc[-1], rel=1e-3)
 
 
+@pytest.mark.slow
 def test_multirate_resume_continues_bit_for_bit(coarse_multirate_run, tmp_path):
     """A multi-rate run resumed from its checkpoint (a sample's end, where every class
     moves) recomputes the same rows, bit for bit."""

@@ -115,7 +115,14 @@ def test_element_energies_are_the_same_in_every_mode(disk_runs):
     np.testing.assert_array_equal(disk_runs["serial"]["e_int"], disk_runs["parallel"]["e_int"])
 
 
-@pytest.mark.parametrize("members", [1, 2])
+@pytest.mark.parametrize(
+    "members",
+    [
+        # one member steps the same phases as two, in serial mode: ~23 s, run with -m slow
+        pytest.param(1, marks=pytest.mark.slow),
+        2,
+    ],
+)
 def test_phases_run_one_by_one_step_as_the_whole_step(members):
     """The profiling entry (``advance_phases``) runs the step body's phases: all of them,
     one launch per phase, move the model exactly as ``advance`` does, here while the
