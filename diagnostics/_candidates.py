@@ -121,10 +121,10 @@ def _explained_by(score: FamilyScore, other: FamilyScore, shaft_hz: float) -> np
 
 
 def _strength(score: FamilyScore) -> tuple[np.ndarray, np.ndarray]:
-    """A comb's line amplitudes for the carrier rule and their standard errors: the
+    r"""A comb's line amplitudes for the carrier rule and their standard errors: the
     modulation depth where measured (every comb :func:`diagnostics.diagnose` scores), else
     the normalised value (no error). A line whose power stands ``z`` times over its
-    background has an amplitude known to about ``1 / sqrt(z)`` of itself (the background's
+    background has an amplitude known to about :math:`1 / \sqrt{z}` of itself (the background's
     amplitude in the bin over the line's)."""
     m = np.asarray(score.modulation, dtype=float)
     z = np.asarray(score.z, dtype=float)

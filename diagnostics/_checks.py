@@ -155,7 +155,7 @@ class RecordScale:
     ----------
     exponent : numpy.ndarray
         Integer exponent ``e`` of each channel (shape: the channel axes, then 1), the
-        channel divided by ``2**e``; 0 for a channel analysed as given.
+        channel divided by :math:`2^e`; 0 for a channel analysed as given.
     """
 
     exponent: np.ndarray
@@ -166,10 +166,10 @@ class RecordScale:
         return not self.exponent.any()
 
     def restore(self, y, power: int = 1, what: str = "the result", trailing: int = 1):
-        """``y``, computed from the rescaled record, in the record's own unit.
+        r"""``y``, computed from the rescaled record, in the record's own unit.
 
-        Multiplying by ``2**(power * e)`` is exact: it adds no rounding to the result, and
-        leaves an untouched record's result as it is.
+        Multiplying by :math:`2^{\mathrm{power} \cdot e}` is exact: it adds no rounding to the
+        result, and leaves an untouched record's result as it is.
 
         Parameters
         ----------
@@ -216,19 +216,21 @@ class RecordScale:
         return out
 
     def decibels(self, power: int = 2) -> np.ndarray | float:
-        """``10 log10(2**(power * e))`` per channel: what a level in dB of a result
-        carrying ``power`` of the record's unit gains back (0.0 for an untouched record)."""
+        r""":math:`10 \log_{10} 2^{\mathrm{power} \cdot e}` per channel: what a level in dB of
+        a result carrying ``power`` of the record's unit gains back (0.0 for an untouched
+        record)."""
         if self.identity:
             return 0.0
         return 10.0 * power * math.log10(2.0) * self.exponent
 
 
 def normalise(x: np.ndarray) -> tuple[np.ndarray, RecordScale]:
-    """``x`` (time axis last) ready for an estimator, and the scale to restore results by.
+    r"""``x`` (time axis last) ready for an estimator, and the scale to restore results by.
 
     Every estimator of ``diagnostics`` goes through this, so that a record's unit does not
-    change a result: each channel whose largest magnitude lies outside ``2**-64 ..
-    2**64`` is divided by the power of two that brings it into ``[0.5, 1)`` (exact in
+    change a result: each channel whose largest magnitude lies outside
+    :math:`2^{-64} \dots 2^{64}` is divided by the power of two that brings it into
+    :math:`[0.5, 1)` (exact in
     floating point, so quantities without a unit, such as kurtosis, p-values, frequencies
     and verdicts, come out as from any other power-of-two scaling of the record, and
     amplitudes restored by :meth:`RecordScale.restore` bit for bit). Other channels are

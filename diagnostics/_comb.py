@@ -95,7 +95,8 @@ class FamilyScore:
         Modulation rate whose sidebands were measured (shaft rate for the inner race, cage
         rate for the rolling elements, 0 for the outer race).
     sideband_z : numpy.ndarray
-        Normalised SES value at k * found_hz - sideband_hz and + sideband_hz (2 x K).
+        Normalised SES value at ``k * found_hz - sideband_hz`` and ``+ sideband_hz``
+        (2 x K).
     n_sidebands_significant : int
         Sidebands whose p-value (a bin either side of the expected offset) is at most
         ``sqrt(alpha_pair)``.
@@ -227,12 +228,13 @@ def _combs(
 def normalised_envelope_spectrum(
     y, fs: float, band: tuple[float, float] | None, f_max: float, half_window_hz: float
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Squared envelope spectrum up to ``f_max``, normalised two ways.
+    r"""Squared envelope spectrum up to ``f_max``, normalised two ways.
 
     ``z`` is the power of each bin over the local background: the running median over
     +-``half_window_hz`` divided by ln 2 (the median of a unit-mean exponential variable),
     so random bins read about 1. ``m`` is the amplitude of each bin over the mean squared
-    envelope: a squared envelope ``mu (1 + m cos 2 pi f t)`` reads ``m`` at ``f`` (the
+    envelope: a squared envelope :math:`\mu (1 + m \cos 2 \pi f t)` reads :math:`m` at
+    :math:`f` (the
     modulation depth, independent of the record length).
 
     Returns
@@ -299,14 +301,15 @@ def _slower_period(
     min_modulation: float,
     periods: tuple[int, ...] = (2, 3),
 ) -> tuple[int, float]:
-    """``(q, share)``: the ``q`` of ``periods`` (2, 3 or 4) where the lines at ``j * fc / q``
-    (``j`` not a multiple of ``q``, odd for ``q`` = 4, below the comb's top harmonic) hold a
-    significant pair, as a comb's pair is judged, and a series at least a quarter as strong
-    as the comb's own (``z_comb``), and that strength over the comb's; else ``(0, 0.0)``.
+    """``(q, share)``: the :math:`q` of ``periods`` (2, 3 or 4) where the lines at
+    :math:`j f_c / q` (:math:`j` not a multiple of :math:`q`, odd for :math:`q = 4`, below
+    the comb's top harmonic) hold a significant pair, as a comb's pair is judged, and a
+    series at least a quarter as strong as the comb's own (``z_comb``), and that strength
+    over the comb's; else ``(0, 0.0)``.
 
     Their places are fixed by the comb, so each line's p-value is over a window of four bins
     (the line between two bins, and a bin of spread either side). A train of impacts at
-    ``fc / q`` gives lines there nearly as strong as on the comb (0.32 or more of its
+    :math:`f_c / q` gives lines there nearly as strong as on the comb (0.32 or more of its
     strength, synthetic trains at half or a third of a fault frequency, 12 and 48 kHz); a
     fault at ``fc`` only weak ones (0.12 at most on the 25 development records named by a
     race or spin comb, 262; 0.02-0.05 in 135, whose lines at odd multiples of BPFO / 2

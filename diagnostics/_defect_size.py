@@ -123,27 +123,28 @@ def contact_speed(geometry: BearingGeometry, shaft_hz: float, race: str = "outer
 def spall_length_from_travel(
     travel_m, roller_radius_m: float, depth_m: float | None = None
 ) -> np.ndarray:
-    """Spall length from the roller travel between the entry and the exit events.
+    r"""Spall length from the roller travel between the entry and the exit events.
 
     Parameters
     ----------
     travel_m : float or array_like
-        Travel of the roller centre (along the race) from entry to exit, m.
+        Travel :math:`s` of the roller centre (along the race) from entry to exit, m.
     roller_radius_m : float
-        Roller radius r, m.
+        Roller radius :math:`r`, m.
     depth_m : float, optional
-        Spall depth h, m. Without it the roller is taken not to reach the floor.
+        Spall depth :math:`h`, m. Without it the roller is taken not to reach the floor.
 
     Returns
     -------
     numpy.ndarray or float
-        ``2 s`` while the roller pivots on the entry edge until it strikes the exit edge
-        (s <= a, a = sqrt(h (2r - h))); ``s + a`` when it rolls on the floor in between.
+        :math:`2 s` while the roller pivots on the entry edge until it strikes the exit
+        edge (:math:`s \le a`, :math:`a = \sqrt{h (2r - h)}`); :math:`s + a` when it rolls
+        on the floor in between.
 
     Examples
     --------
-    A 24 mm roller over a deep spall strikes the exit edge halfway (``L = 2 s``); over a
-    0.3 mm deep one it lands on the floor after a = 2.7 mm and rolls on:
+    A 24 mm roller over a deep spall strikes the exit edge halfway (:math:`L = 2 s`); over
+    a 0.3 mm deep one it lands on the floor after :math:`a` = 2.7 mm and rolls on:
 
     >>> float(spall_length_from_travel(4e-3, 12e-3))
     0.008

@@ -69,7 +69,7 @@ def envelope(x, fs: float, band=None, axis: int = -1) -> np.ndarray:
 
 
 def envelope_spectrum(x, fs: float, band=None, squared: bool = True, axis: int = -1):
-    """One-sided amplitude spectrum of the (squared) envelope.
+    r"""One-sided amplitude spectrum of the (squared) envelope.
 
     Parameters
     ----------
@@ -92,7 +92,7 @@ def envelope_spectrum(x, fs: float, band=None, squared: bool = True, axis: int =
         Frequencies in Hz, 0 to fs/2 in steps of fs/len(x).
     amplitude : numpy.ndarray
         Amplitude of each sinusoidal component of the (squared) envelope after removing its
-        mean: a component ``A cos(2 pi f t)`` reads ``A`` at its bin.
+        mean: a component :math:`A \cos(2 \pi f t)` reads :math:`A` at its bin.
 
     Raises
     ------

@@ -112,7 +112,7 @@ def _sideband_p(
 ) -> np.ndarray:
     """p-value of the stronger sideband of each harmonic: each side the largest of four
     bins (its line between two, and a bin either side), the better side of two, so at most
-    ``8 exp(-z)``. A side stronger than its harmonic (``line_z``) is no sideband of it:
+    :math:`8 e^{-z}`. A side stronger than its harmonic (``line_z``) is no sideband of it:
     amplitude modulation by a window that is nowhere negative (the load zone passing with
     the cage) leaves each sideband at most as strong as the line. A side in ``explained``
     (2 x K) counts as absent too."""

@@ -41,7 +41,7 @@ def notch_filter(x, fs: float, f0: float, Q: float = 30.0, axis: int = -1) -> np
     f0 : float
         Frequency to remove, in Hz (0 < f0 < fs/2), e.g. mains hum or a gear mesh tone.
     Q : float
-        Quality factor: the -3 dB width of one pass is ``f0 / Q``.
+        Quality factor: the -3 dB width of one pass is :math:`f_0 / Q`.
     axis : int
         Axis of ``x`` along which the samples run.
 

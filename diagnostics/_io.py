@@ -202,7 +202,7 @@ def read_speed_profile(path, fs: float, n_samples: int) -> np.ndarray:
     Returns
     -------
     numpy.ndarray
-        Shaft rate (Hz) at each sample time ``k / fs``: linear between the table's rows,
+        Shaft rate (Hz) at each sample time :math:`k / f_s`: linear between the table's rows,
         held before the first and after the last.
 
     Raises

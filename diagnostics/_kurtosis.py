@@ -31,7 +31,9 @@ _TERNARY_ORDER = 24
 
 @dataclass(frozen=True)
 class _ModulatedFilter:
-    """A complex FIR filter ``scale * taps[k] * exp(2i pi cycles k / period)``, taps real."""
+    r"""A complex FIR filter :math:`s \, h_k \exp(2 \pi i \, c k / P)`, with :math:`s` the
+    ``scale``, :math:`h_k` the real ``taps``, :math:`c` the ``cycles`` and :math:`P` the
+    ``period``."""
 
     taps: np.ndarray
     cycles: int
@@ -42,7 +44,8 @@ class _ModulatedFilter:
         return self.scale * self.taps * self.phasor(self.taps.size)
 
     def phasor(self, n: int) -> np.ndarray:
-        """``exp(2i pi cycles m / period)`` for m = 0..n-1, built from one exact period."""
+        r""":math:`\exp(2 \pi i \, c m / P)` (:math:`c` the ``cycles``, :math:`P` the
+        ``period``) for :math:`m = 0, \dots, n - 1`, built from one exact period."""
         one_period = np.exp(2j * np.pi * self.cycles * np.arange(self.period) / self.period)
         return np.tile(one_period, -(-n // self.period))[:n]
 
@@ -126,10 +129,11 @@ def _alternating_sign(n: int) -> np.ndarray:
 
 
 def _band_kurtosis(bands: np.ndarray, floor: float) -> np.ndarray:
-    """Kurtosis of the complex envelope of each row, as Antoni's 'kurt2' computes it.
+    r"""Kurtosis of the complex envelope of each row, as Antoni's 'kurt2' computes it.
 
-    The mean is removed first; the result is ``mean|c|^4 / mean(|c|^2)^2 - 2`` for complex
-    rows (``- 3`` for a real row), and 0 where the band power is below ``floor`` (the
+    The mean is removed first; the result is
+    :math:`\overline{|c|^4} / \bigl(\overline{|c|^2}\bigr)^2 - 2` for complex rows
+    (:math:`- 3` for a real row), and 0 where the band power is below ``floor`` (the
     reference's machine epsilon, here times the record's mean square: see
     :func:`_kurtosis_statistic`).
     """
@@ -218,7 +222,7 @@ def kurtogram_levels(nlevel: int) -> np.ndarray:
 
 
 def kurtogram(x, fs: float, nlevel: int = 7) -> Kurtogram:
-    """Fast kurtogram of ``x`` (Antoni 2007), identical to the reference implementation.
+    r"""Fast kurtogram of ``x`` (Antoni 2007), identical to the reference implementation.
 
     Parameters
     ----------
@@ -228,8 +232,8 @@ def kurtogram(x, fs: float, nlevel: int = 7) -> Kurtogram:
     fs : float
         Sampling rate in Hz.
     nlevel : int
-        Number of binary decomposition levels (the finest bands are ``fs / 2**(nlevel+1)``
-        wide).
+        Number of binary decomposition levels (the finest bands are
+        :math:`f_s / 2^{\mathrm{nlevel}+1}` wide).
 
     Returns
     -------
@@ -257,14 +261,14 @@ def kurtogram(x, fs: float, nlevel: int = 7) -> Kurtogram:
 def infogram(
     x, fs: float, nlevel: int = 7, cyclic_range=None, shaft_hz: float | None = None
 ) -> Infogram:
-    """Infogram of the squared envelope spectrum: which band holds repetitive transients.
+    r"""Infogram of the squared envelope spectrum: which band holds repetitive transients.
 
-    The kurtogram rewards any impulsiveness, and a few strong impulses at no fault period
-    (a knock, a loose part, electrical spikes) win it over a weaker fault's train. The
-    spectral negentropy of the squared envelope spectrum (Antoni 2016, "The infogram",
-    MSSP 74) rewards lines in the envelope's spectrum instead: isolated impulses give a
-    flat one, which reads like noise. Each band of the fast kurtogram's 1/3-binary tree
-    (same filters) is scored by ``mean(E ln E)``, E being the power of its squared
+    The kurtogram rewards any impulsiveness, and a few strong impulses at no fault period (a
+    knock, a loose part, electrical spikes) win it over a weaker fault's train. The spectral
+    negentropy of the squared envelope spectrum (Antoni 2016, "The infogram", MSSP 74)
+    rewards lines in the envelope's spectrum instead: isolated impulses give a flat one,
+    which reads like noise. Each band of the fast kurtogram's 1/3-binary tree (same filters)
+    is scored by the mean of :math:`E \ln E`, :math:`E` being the power of its squared
     envelope's spectrum over its mean at the cyclic frequencies considered. Random noise
     reads about 0.44 in every band but the whole one: 1 - 0.5772 (Euler's constant) = 0.42
     for the exponential values of a flat spectrum, a little more as the filters' passbands

@@ -28,8 +28,8 @@ def choose_sk_windows(
 
 
 def choose_nlevel(n: int, max_level: int = 7) -> int:
-    """Fast-kurtogram levels a record of ``n`` samples allows (``2**(nlevel+7)`` samples,
-    the reference implementation's limit), at most ``max_level``; 0 if none."""
+    r"""Fast-kurtogram levels a record of ``n`` samples allows (:math:`2^{\mathrm{nlevel}+7}`
+    samples, the reference implementation's limit), at most ``max_level``; 0 if none."""
     return int(max(0, min(max_level, math.floor(math.log2(max(n, 1))) - 7)))
 
 

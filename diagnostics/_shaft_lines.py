@@ -286,10 +286,10 @@ def _fit_fundamental(power: np.ndarray, df: float, f0: float, k: np.ndarray) -> 
     """Fundamental fitted to the peaks of harmonics ``k`` of ``f0``.
 
     Each peak's frequency comes from a parabola through the log power of its top bin (within
-    two bins of ``k * f0``) and their neighbours. The median of ``f_k / k`` gives a first
+    two bins of :math:`k f_0`) and their neighbours. The median of :math:`f_k / k` gives a first
     rate; peaks more than half a bin from its multiples (a noise peak that stood out, one in
     a hundred of the harmonics sought) are left out, and the rest fitted by least squares of
-    ``f_k = k * f``, where a high harmonic weighs most."""
+    :math:`f_k = k f`, where a high harmonic weighs most."""
     centre = np.rint(k * f0 / df).astype(int)
     window = np.clip(centre[:, None] + np.arange(-2, 3)[None, :], 1, power.size - 2)
     top = window[np.arange(k.size), np.argmax(power[window], axis=1)]

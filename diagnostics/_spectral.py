@@ -151,7 +151,7 @@ def psd(x, fs: float, nperseg: int = 4096, axis: int = -1):
 
 
 def third_octave_centres(f_min: float, f_max: float) -> np.ndarray:
-    """Exact IEC 61260-1 base-ten one-third-octave centres whose band overlaps f_min..f_max.
+    r"""Exact IEC 61260-1 base-ten one-third-octave centres whose band overlaps f_min..f_max.
 
     Parameters
     ----------
@@ -161,7 +161,7 @@ def third_octave_centres(f_min: float, f_max: float) -> np.ndarray:
     Returns
     -------
     numpy.ndarray
-        Centres ``1000 * 10**(k/10)`` in increasing order.
+        Centres :math:`1000 \cdot 10^{k/10}` Hz in increasing order.
 
     References
     ----------
@@ -187,10 +187,10 @@ def third_octave(
     ref: float = 1.0,
     axis: int = -1,
 ):
-    """One-third-octave band levels (IEC 61260-1 base-ten bands) from the signal's spectrum.
+    r"""One-third-octave band levels (IEC 61260-1 base-ten bands) from the signal's spectrum.
 
     The power of each band is the sum of the periodogram bins inside its edges
-    ``fc * 10**(-0.05) <= f < fc * 10**(0.05)``. Adjacent bands share their edges, so the band
+    :math:`f_c 10^{-0.05} \le f < f_c 10^{0.05}`. Adjacent bands share their edges, so the band
     powers add up to the signal's power over the range they cover (Parseval).
 
     Parameters
@@ -205,7 +205,7 @@ def third_octave(
         Highest frequency of interest in Hz (default fs/2). Bands reaching above fs/2 are
         dropped, since the spectrum ends there.
     ref : float
-        Reference value: levels are ``10 log10(power / ref**2)`` dB.
+        Reference value: levels are :math:`10 \log_{10}(\mathrm{power} / \mathrm{ref}^2)` dB.
     axis : int
         Axis of ``x`` along which the samples run; the band axis of ``level_db`` takes its
         place.
@@ -279,7 +279,7 @@ def _check_band_resolution(n: int, fs: float, fc: np.ndarray) -> None:
 
 
 def _band_powers(x: np.ndarray, fs: float, fc: np.ndarray) -> np.ndarray:
-    """Mean-square power of ``x`` (last axis) inside each band ``fc * 10**(+-0.05)``."""
+    r"""Mean-square power of ``x`` (last axis) inside each band :math:`f_c 10^{\pm 0.05}`."""
     n = x.shape[-1]
     spectrum = np.fft.rfft(x, axis=-1)
     # One-sided power per bin, normalised so that the bins sum to mean(x**2).

@@ -45,12 +45,12 @@ class SpectralKurtosis(tuple):
 
 
 def sk_threshold(n_frames: int, p: float = 0.01) -> float:
-    """Significance threshold of the STFT spectral kurtosis for Gaussian noise.
+    r"""Significance threshold of the STFT spectral kurtosis for Gaussian noise.
 
     For stationary Gaussian noise the SK estimate at a frequency is asymptotically normal with
-    mean 0 and standard deviation ``2 / sqrt(n_frames)`` (Antoni 2006); the threshold is its
-    one-sided ``1 - p`` quantile. It assumes nearly independent frames, which holds for the
-    Hann window at 50 % overlap used by :func:`spectral_kurtosis`.
+    mean 0 and standard deviation :math:`2 / \sqrt{n_\mathrm{frames}}` (Antoni 2006); the
+    threshold is its one-sided :math:`1 - p` quantile. It assumes nearly independent frames,
+    which holds for the Hann window at 50 % overlap used by :func:`spectral_kurtosis`.
 
     Parameters
     ----------
@@ -76,9 +76,10 @@ def sk_threshold(n_frames: int, p: float = 0.01) -> float:
 
 
 def spectral_kurtosis(x, fs: float, nw: int = 256, axis: int = -1) -> SpectralKurtosis:
-    """Spectral kurtosis by the STFT estimator of Antoni (2006).
+    r"""Spectral kurtosis by the STFT estimator of Antoni (2006).
 
-    ``SK(f) = <|X(t, f)|^4> / <|X(t, f)|^2>^2 - 2`` over the STFT frames (Hann window of
+    :math:`\mathrm{SK}(f) = \langle |X(t, f)|^4 \rangle / \langle |X(t, f)|^2 \rangle^2 - 2`
+    over the STFT frames (Hann window of
     ``nw`` samples, 50 % overlap). It is 0 for stationary Gaussian noise, -1 for a pure tone
     and large where a band carries impulsive content. At 0 Hz and fs/2 the STFT of a real
     signal is real-valued, the complex estimator does not apply and its real counterpart has

@@ -89,7 +89,7 @@ def plot_time_trace(x, fs: float, events=None, ax: Axes | None = None, unit: str
         Axes to draw into.
     unit : str
         Unit of ``x`` for the y label. A record of values near 1e300 or 1e-300 is drawn
-        in a unit ``10**k`` times it, which the label names.
+        in a unit :math:`10^k` times it, which the label names.
     """
     x, decade = _in_decimal_unit(check_signal(x, fs))
     if decade:
@@ -311,7 +311,7 @@ def plot_psd_notch(
     """Welch PSD before and after notching each frequency in ``notch_hz``.
 
     A record whose squares would leave the range of float64 (values near 1e300 or 1e-300)
-    is drawn in a unit ``10**k`` times its own, which the y label names.
+    is drawn in a unit :math:`10^k` times its own, which the y label names.
     """
     raw, decade = _in_decimal_unit(check_signal(x, fs))
     y = raw
@@ -338,7 +338,7 @@ def plot_psd_notch(
 
 def _in_decimal_unit(x: np.ndarray) -> tuple[np.ndarray, int]:
     """``(x, 0)``, or for a record whose squares would leave float64 (one that
-    :func:`diagnostics._checks.normalise` rescales) ``x`` in a unit ``10**k`` times its own,
+    :func:`diagnostics._checks.normalise` rescales) ``x`` in a unit :math:`10^k` times its own,
     and ``k``."""
     rescaled, scale = normalise(x)
     if scale.identity:

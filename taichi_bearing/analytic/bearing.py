@@ -1,4 +1,4 @@
-"""Bearing kinematics and Hertz line contact (pure numpy, SI units).
+r"""Bearing kinematics and Hertz line contact (pure numpy, SI units).
 
 Kinematics assume pure rolling with a stationary outer ring and the inner ring turning
 counter-clockwise at the shaft speed; the fault frequencies come from
@@ -7,16 +7,17 @@ counter-clockwise at the shaft speed; the fault frequencies come from
 Contact (Johnson, *Contact Mechanics*, 1985, section 4.3; Harris & Kotzalas, *Rolling
 Bearing Analysis*, 5th ed., 2007):
 
-- effective modulus ``1/E* = (1 - nu1^2)/E1 + (1 - nu2^2)/E2``;
-- effective radius ``1/R = 1/r + 1/R_i`` (roller on the convex inner raceway) and
-  ``1/R = 1/r - 1/R_o`` (roller in the concave outer raceway);
-- half-width ``b = sqrt(4 P R / (pi E*))`` and peak pressure ``p_max = 2 P / (pi b)`` for a
-  load ``P`` per unit length;
-- load-deflection (Palmgren): ``Q = K delta^(10/9)`` per roller-raceway contact with
-  ``K = 8.06e4 l^(8/9)`` in N, mm units (Palmgren 1959, the inverse of
-  ``delta = 3.84e-5 Q^0.9 / l^0.8``; Harris & Kotzalas eq. 6.46), which is
-  ``K = 8.06e10 l^(8/9)`` N/m^(10/9) with l in m. It holds for bearing steel; other
-  materials are scaled by E*/E*_steel (deflection at a given load varies as 1/E*).
+- effective modulus :math:`1/E^* = (1 - \nu_1^2)/E_1 + (1 - \nu_2^2)/E_2`;
+- effective radius :math:`1/R = 1/r + 1/R_i` (roller on the convex inner raceway) and
+  :math:`1/R = 1/r - 1/R_o` (roller in the concave outer raceway);
+- half-width :math:`b = \sqrt{4 P R / (\pi E^*)}` and peak pressure
+  :math:`p_\mathrm{max} = 2 P / (\pi b)` for a load :math:`P` per unit length;
+- load-deflection (Palmgren): :math:`Q = K \delta^{10/9}` per roller-raceway contact with
+  :math:`K = 8.06 \cdot 10^4 \, l^{8/9}` in N, mm units (Palmgren 1959, the inverse of
+  :math:`\delta = 3.84 \cdot 10^{-5} \, Q^{0.9} / l^{0.8}`; Harris & Kotzalas eq. 6.46),
+  which is :math:`K = 8.06 \cdot 10^{10} \, l^{8/9}` :math:`\mathrm{N/m^{10/9}}` with
+  :math:`l` in m. It holds for bearing steel; other materials are scaled by
+  :math:`E^* / E^*_\mathrm{steel}` (deflection at a given load varies as :math:`1/E^*`).
 """
 
 from __future__ import annotations
@@ -75,15 +76,16 @@ def fault_frequencies(bearing: Bearing, shaft_hz: float) -> FaultFrequencies:
 
 
 def cage_speed(bearing: Bearing, shaft_speed: float) -> float:
-    """Cage angular speed, rad/s, for a shaft speed in rad/s (2 pi FTF)."""
+    r"""Cage angular speed, rad/s, for a shaft speed in rad/s (:math:`2 \pi \, \mathrm{FTF}`)."""
     return 2.0 * math.pi * fault_frequencies(bearing, shaft_speed / (2.0 * math.pi)).ftf
 
 
 def rolling_surface_speed(bearing: Bearing, shaft_speed: float) -> float:
-    """Speed at which the contacts travel over the roller surface and the raceways, m/s.
+    r"""Speed at which the contacts travel over the roller surface and the raceways, m/s.
 
-    With pure rolling the roller surface speed relative to the cage, 2 pi BSF * d/2,
-    equals the speed of the contact along the outer raceway, omega_cage * R_o.
+    With pure rolling the roller surface speed relative to the cage,
+    :math:`2 \pi \, \mathrm{BSF} \, d/2`, equals the speed of the contact along the outer
+    raceway, :math:`\omega_\mathrm{cage} R_o`.
     """
     f = fault_frequencies(bearing, shaft_speed / (2.0 * math.pi))
     return 2.0 * math.pi * f.bsf * bearing.roller_radius
@@ -95,14 +97,14 @@ def roller_spacing(bearing: Bearing) -> float:
 
 
 def wrap_angle(angle):
-    """Angle(s) wrapped into [-pi, pi)."""
+    r"""Angle(s) wrapped into :math:`[-\pi, \pi)`."""
     return (np.asarray(angle, dtype=float) + np.pi) % (2.0 * np.pi) - np.pi
 
 
 def roller_angles(
     bearing: Bearing, t=0.0, shaft_speed: float = 0.0, first_angle: float = 0.0
 ) -> np.ndarray:
-    """Angular positions of the roller centres, rad from 12 o'clock, counter-clockwise.
+    r"""Angular positions of the roller centres, rad from 12 o'clock, counter-clockwise.
 
     Parameters
     ----------
@@ -118,7 +120,7 @@ def roller_angles(
     -------
     ndarray
         Shape ``(n_rollers,)`` for a scalar ``t``, else ``t.shape + (n_rollers,)``;
-        wrapped into [-pi, pi).
+        wrapped into :math:`[-\pi, \pi)`.
     """
     t = np.asarray(t, dtype=float)
     base = first_angle + roller_spacing(bearing) * np.arange(bearing.n_rollers)
@@ -130,17 +132,18 @@ def roller_angles(
 
 
 def effective_modulus(e1: float, nu1: float, e2: float | None = None, nu2: float | None = None):
-    """Contact modulus E*, Pa: 1/E* = (1 - nu1^2)/E1 + (1 - nu2^2)/E2 (same body if 2 omitted)."""
+    r"""Contact modulus :math:`E^*`, Pa: :math:`1/E^* = (1 - \nu_1^2)/E_1 + (1 - \nu_2^2)/E_2`
+    (the same body twice if the second is omitted)."""
     e2 = e1 if e2 is None else e2
     nu2 = nu1 if nu2 is None else nu2
     return 1.0 / ((1.0 - nu1**2) / e1 + (1.0 - nu2**2) / e2)
 
 
 def contact_radius(bearing: Bearing, race: str) -> float:
-    """Effective radius R of the roller-raceway contact, m.
+    """Effective radius :math:`R` of the roller-raceway contact, m.
 
-    ``race="inner"``: convex on convex, 1/R = 1/r + 1/R_i; ``race="outer"``: convex in
-    concave, 1/R = 1/r - 1/R_o.
+    ``race="inner"``: convex on convex, :math:`1/R = 1/r + 1/R_i`; ``race="outer"``: convex
+    in concave, :math:`1/R = 1/r - 1/R_o`.
     """
     r = bearing.roller_radius
     if race == "inner":
@@ -151,7 +154,8 @@ def contact_radius(bearing: Bearing, race: str) -> float:
 
 
 def hertz_half_width(force, length: float, radius: float, e_star: float):
-    """Half-width b of a Hertz line contact, m: b = sqrt(4 P R / (pi E*)), P = force/length.
+    r"""Half-width :math:`b` of a Hertz line contact, m: :math:`b = \sqrt{4 P R / (\pi E^*)}`,
+    :math:`P` = force/length.
 
     Parameters
     ----------
@@ -160,14 +164,15 @@ def hertz_half_width(force, length: float, radius: float, e_star: float):
     length : float
         Contact length, m.
     radius : float
-        Effective radius R, m.
+        Effective radius :math:`R`, m.
     e_star : float
-        Contact modulus E*, Pa.
+        Contact modulus :math:`E^*`, Pa.
 
     Examples
     --------
     The default bearing's most loaded roller (15.4 kN over 50 mm) against the outer
-    raceway (R = 13.44 mm), steel on steel: a contact 0.43 mm wide, 917 MPa at its centre.
+    raceway (:math:`R` = 13.44 mm), steel on steel: a contact 0.43 mm wide, 917 MPa at its
+    centre.
 
     >>> from taichi_bearing.analytic.bearing import effective_modulus, hertz_peak_pressure
     >>> e_star = effective_modulus(210e9, 0.3)
@@ -181,26 +186,29 @@ def hertz_half_width(force, length: float, radius: float, e_star: float):
 
 
 def hertz_peak_pressure(force, length: float, radius: float, e_star: float):
-    """Peak pressure p_max = 2 P / (pi b) = sqrt(P E* / (pi R)), Pa (P = force/length)."""
+    r"""Peak pressure :math:`p_\mathrm{max} = 2 P / (\pi b) = \sqrt{P E^* / (\pi R)}`, Pa
+    (:math:`P` = force/length)."""
     p = np.maximum(np.asarray(force, dtype=float), 0.0) / length
     return np.sqrt(p * e_star / (np.pi * radius))
 
 
 def palmgren_stiffness(bearing: Bearing, material: Material) -> float:
-    """Palmgren load-deflection constant K of one roller-raceway contact, N/m^(10/9).
+    r"""Palmgren load-deflection constant :math:`K` of one roller-raceway contact,
+    :math:`\mathrm{N/m^{10/9}}`.
 
-    Q = K delta^(10/9) with K = 8.06e10 l^(8/9) (l in m) for bearing steel, scaled by
-    E*/E*_steel for other materials.
+    :math:`Q = K \delta^{10/9}` with :math:`K = 8.06 \cdot 10^{10} \, l^{8/9}` (:math:`l` in
+    m) for bearing steel, scaled by :math:`E^* / E^*_\mathrm{steel}` for other materials.
     """
     e_star = effective_modulus(material.youngs_modulus, material.poissons_ratio)
     return PALMGREN_K_SI * bearing.roller_length ** (8.0 / 9.0) * e_star / STEEL_E_STAR
 
 
 def series_stiffness(k_outer, k_inner, n: float = LINE_CONTACT_EXPONENT):
-    """Load-deflection constant of two contacts in series, Q = K delta_total^n.
+    r"""Load-deflection constant of two contacts in series, :math:`Q = K \delta_\mathrm{total}^n`.
 
-    Both contacts carry the same Q, so delta = (Q/K_o)^(1/n) + (Q/K_i)^(1/n) and
-    K = (K_o^(-1/n) + K_i^(-1/n))^(-n). A zero stiffness gives zero.
+    Both contacts carry the same :math:`Q`, so
+    :math:`\delta = (Q/K_o)^{1/n} + (Q/K_i)^{1/n}` and
+    :math:`K = (K_o^{-1/n} + K_i^{-1/n})^{-n}`. A zero stiffness gives zero.
     """
     k_outer = np.asarray(k_outer, dtype=float)
     k_inner = np.asarray(k_inner, dtype=float)

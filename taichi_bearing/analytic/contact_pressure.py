@@ -1,9 +1,10 @@
-"""The contact patch a finite element contact resolves, against Hertz: half-width and peak
+r"""The contact patch a finite element contact resolves, against Hertz: half-width and peak
 pressure from the nodal contact forces on a raceway (numpy only).
 
 With few nodes in contact the patch is sampled coarsely: the half-width is taken from the
-distribution's second moment, which for the Hertz ellipse ``p(s) = p0 sqrt(1 - s^2/b^2)``
-is ``b^2 / 4`` (so ``b = 2 sqrt(var)``), and is defined for any number of loaded nodes; the
+distribution's second moment, which for the Hertz ellipse
+:math:`p(s) = p_0 \sqrt{1 - s^2/b^2}` is :math:`b^2 / 4` (so
+:math:`b = 2 \sqrt{\mathrm{var}}`), and is defined for any number of loaded nodes; the
 peak pressure is the largest nodal force over its tributary length.
 
 A nodal force is the pressure weighted by a kernel (the shape functions that carry it to
@@ -11,8 +12,8 @@ the node), and a kernel's own variance adds to the pressure's: nodal forces of a
 Hertz pressure read at 0.5 mm nodes spread a 0.43 mm wide patch to about 0.46 mm.
 :func:`nodal_patch` subtracts what the caller says the kernel adds
 (:func:`contact_spread` for the two-pass contact of two like meshes), so the half-width is
-the pressure's. The peak pressure keeps a bias of about ``spread / (2 b^2)`` (0.5 % with
-four elements across ``b``).
+the pressure's. The peak pressure keeps a bias of about :math:`\mathrm{spread} / (2 b^2)`
+(0.5 % with four elements across :math:`b`).
 """
 
 from __future__ import annotations
@@ -33,12 +34,13 @@ __all__ = ["contact_spread", "nodal_patch", "raceway_patch"]
 
 def contact_spread(h) -> float | np.ndarray:
     """Variance (m^2) that reading a pressure from nodal forces adds, for a two-pass
-    penalty contact between two surfaces meshed alike at spacing ``h`` (m): ``h^2 / 6``.
+    penalty contact between two surfaces meshed alike at spacing ``h`` (m): :math:`h^2 / 6`.
 
     Each pass carries half the pressure. The raceway's own queries gather it over their
-    tributary boxes (variance ``h^2 / 12``); the roller's gather it over theirs and hand it
-    to the raceway's nodes by the segment's linear shape functions (``h^2 / 12 + h^2 /
-    6``); half of each is ``h^2 / 6``, the variance of a linear shape function's hat.
+    tributary boxes (variance :math:`h^2 / 12`); the roller's gather it over theirs and hand
+    it to the raceway's nodes by the segment's linear shape functions
+    (:math:`h^2 / 12 + h^2 / 6`); half of each is :math:`h^2 / 6`, the variance of a linear
+    shape function's hat.
     Averaged over where the patch lies between nodes; exact once it spans several.
     """
     return np.asarray(h, dtype=float) ** 2 / 6.0
@@ -61,11 +63,11 @@ def nodal_patch(
     Returns
     -------
     dict
-        ``force_N`` (sum), ``centre_m`` (force centroid), ``half_width_m`` (``2 sqrt`` of
-        the force-weighted variance of ``s`` less ``spread``; NaN where that variance is
+        ``force_N`` (sum), ``centre_m`` (force centroid), ``half_width_m`` (twice the square
+        root of the force-weighted variance of ``s`` less ``spread``; NaN where that variance is
         no more than ``spread`` > 0: the patch is narrower than the nodes resolve, and a
         width of 0 would be a reading, not the absence of one), ``nodal_half_width_m``
-        (without the correction), ``peak_pressure_Pa`` (largest ``f / (h t)``) and
+        (without the correction), ``peak_pressure_Pa`` (largest :math:`f / (h t)`) and
         ``nodes`` (nodes carrying force).
     """
     s, f, h = (np.asarray(a, dtype=float) for a in (s, f, h))

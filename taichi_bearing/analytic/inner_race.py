@@ -1,18 +1,19 @@
-"""An inner-race spall turns with the shaft: where it is and how a roller passes over it
+r"""An inner-race spall turns with the shaft: where it is and how a roller passes over it
 (numpy only); the load it meets on the way round is
 :func:`taichi_bearing.analytic.quasistatic.load_zone`.
 
-The inner ring turns at the shaft speed ``w_s`` and the rollers at the cage speed ``w_c``
-(both counter-clockwise, ``w_c < w_s``), so the spall overtakes the rollers: relative to
-the ring a roller moves clockwise and meets the spall's edge at the larger angle first. A
-roller passes over the spall when the spall's angle in the fixed frame,
-``theta_s(t) = theta_s0 + w_s t`` (``theta_s0``: ``defect.angle``, in the ring's frame at
-t = 0), crosses the roller's, once every ``2 pi / (Z (w_s - w_c)) = 1 / BPFI``; between
-two passages the spall turns ``w_s / BPFI`` in the fixed frame (32.1 degrees on the
+The inner ring turns at the shaft speed :math:`\omega_s` and the rollers at the cage speed
+:math:`\omega_c` (both counter-clockwise, :math:`\omega_c < \omega_s`), so the spall
+overtakes the rollers: relative to the ring a roller moves clockwise and meets the spall's
+edge at the larger angle first. A roller passes over the spall when the spall's angle in
+the fixed frame, :math:`\theta_s(t) = \theta_{s0} + \omega_s t` (:math:`\theta_{s0}`:
+``defect.angle``, in the ring's frame at :math:`t = 0`), crosses the roller's, once every
+:math:`2 \pi / (Z (\omega_s - \omega_c)) = 1 / \mathrm{BPFI}`; between two passages the
+spall turns :math:`\omega_s / \mathrm{BPFI}` in the fixed frame (32.1 degrees on the
 default bearing). Each passage meets the load of the roller at that angle: full under the
 load, nothing outside the load zone. The impacts are therefore modulated once per shaft
-turn, which puts shaft-rate sidebands ``k BPFI +- m f_s`` in the envelope spectrum
-(:func:`sideband_ratio`).
+turn, which puts shaft-rate sidebands :math:`k \, \mathrm{BPFI} \pm m f_s` in the envelope
+spectrum (:func:`sideband_ratio`).
 """
 
 from __future__ import annotations
@@ -89,13 +90,14 @@ def passage_spall_angles(case: Case, first_roller_angle: float, start: float, co
 
 
 def sideband_ratio(angles: np.ndarray, weight: np.ndarray, order: int = 1) -> float:
-    """Shaft-rate sideband over the carrier of a pulse train modulated by ``weight``.
+    r"""Shaft-rate sideband over the carrier of a pulse train modulated by ``weight``.
 
-    Impulses at BPFI whose strength follows ``weight(theta_s)``, the spall's angle, make
-    lines at ``k BPFI + m f_s`` of amplitude proportional to the ``m``-th Fourier
-    coefficient of ``weight`` over one shaft turn: the ``order``-th sideband over the
-    line at ``k BPFI`` is ``|c_m| / c_0``. In the squared envelope an impulse counts with
-    its square: impulses growing with the load ``Q`` give ``weight = Q**2``.
+    Impulses at BPFI whose strength follows :math:`\mathrm{weight}(\theta_s)`, the spall's
+    angle, make lines at :math:`k \, \mathrm{BPFI} + m f_s` of amplitude proportional to the
+    :math:`m`-th Fourier coefficient of ``weight`` over one shaft turn: the ``order``-th
+    sideband over the line at :math:`k \, \mathrm{BPFI}` is :math:`|c_m| / c_0`. In the
+    squared envelope an impulse counts with its square: impulses growing with the load
+    :math:`Q` give a ``weight`` of :math:`Q^2`.
 
     Parameters
     ----------

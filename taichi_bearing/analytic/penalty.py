@@ -1,11 +1,12 @@
-"""The pressure contact law's penalty from the case's Hertz contact (numpy only).
+r"""The pressure contact law's penalty from the case's Hertz contact (numpy only).
 
-A penalty ``p_s`` (pressure per unit overlap, Pa/m) under a Hertz pressure
-``p(s) = p0 sqrt(1 - s^2 / b^2)`` overlaps by ``p0 / p_s`` at the centre. With
-``p0 = b E* / (2 R)`` (Johnson, Contact Mechanics, 1985, eq. 4.45) and
-``p_s = alpha E* / b``, that overlap is ``b^2 / (2 R alpha)``: ``1 / alpha`` of the
-parabolic gap ``b^2 / (2 R)`` the bodies close over the half-width, so ``alpha`` says how
-much stiffer than the contact's own compliance the penalty is, whatever the mesh.
+A penalty :math:`p_s` (pressure per unit overlap, Pa/m) under a Hertz pressure
+:math:`p(s) = p_0 \sqrt{1 - s^2 / b^2}` overlaps by :math:`p_0 / p_s` at the centre. With
+:math:`p_0 = b E^* / (2 R)` (Johnson, Contact Mechanics, 1985, eq. 4.45) and
+:math:`p_s = \alpha E^* / b`, that overlap is :math:`b^2 / (2 R \alpha)`: :math:`1 / \alpha`
+of the parabolic gap :math:`b^2 / (2 R)` the bodies close over the half-width, so
+:math:`\alpha` says how much stiffer than the contact's own compliance the penalty is,
+whatever the mesh.
 """
 
 from __future__ import annotations
@@ -21,11 +22,11 @@ __all__ = ["pressure_penalty", "reference_half_width"]
 
 
 def reference_half_width(case) -> float:
-    """``b_ref``, m: the smaller Hertz half-width of the two contacts (outer and inner
-    raceway) of the most loaded roller of the healthy bearing at the case's load, a roller
-    on the load line (the rigid-ring quasi-static model,
+    r""":math:`b_\mathrm{ref}`, m: the smaller Hertz half-width of the two contacts (outer
+    and inner raceway) of the most loaded roller of the healthy bearing at the case's load,
+    a roller on the load line (the rigid-ring quasi-static model,
     :func:`~taichi_bearing.analytic.quasistatic.solve_case`). The smaller one, so that
-    the penalty's overlap is at most ``1 / alpha`` of the gap on both contacts.
+    the penalty's overlap is at most :math:`1 / \alpha` of the gap on both contacts.
 
     Examples
     --------
@@ -40,9 +41,10 @@ def reference_half_width(case) -> float:
 
 
 def pressure_penalty(case) -> float:
-    """The pressure law's ``p_s`` (Pa/m) of a case: ``contact.penalty_pressure`` when
-    given (non-zero), else ``alpha E* / b_ref`` with ``alpha = contact.penalty_scale``,
-    ``E*`` the steel pair's contact modulus and ``b_ref`` :func:`reference_half_width`."""
+    r"""The pressure law's :math:`p_s` (Pa/m) of a case: ``contact.penalty_pressure`` when
+    given (non-zero), else :math:`\alpha E^* / b_\mathrm{ref}` with :math:`\alpha` the
+    ``contact.penalty_scale``, :math:`E^*` the steel pair's contact modulus and
+    :math:`b_\mathrm{ref}` :func:`reference_half_width`."""
     contact = case.contact
     if contact.penalty_pressure > 0:
         return float(contact.penalty_pressure)

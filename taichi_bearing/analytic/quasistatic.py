@@ -1,48 +1,56 @@
-"""Quasi-static load distribution of a radially loaded roller bearing, with a line spall.
+r"""Quasi-static load distribution of a radially loaded roller bearing, with a line spall.
 
 Healthy bearing (Harris & Kotzalas, *Rolling Bearing Analysis*, 5th ed., ch. 7): the outer
-ring (under the adapter) is pushed down by the radial load W and moves by delta_r relative
-to the inner ring, which is held by the shaft. Roller j at angle psi_j (from 12 o'clock)
-is squeezed by
+ring (under the adapter) is pushed down by the radial load :math:`W` and moves by
+:math:`\delta_r` relative to the inner ring, which is held by the shaft. Roller :math:`j` at
+angle :math:`\psi_j` (from 12 o'clock) is squeezed by
 
-    delta_j = delta_r cos(psi_j) - P_d / 2           (P_d: radial internal clearance)
+.. math::
 
-and carries Q_j = K_n delta_j^n (zero when delta_j <= 0), K_n being the two
-roller-raceway contacts in series. delta_r is solved so that the vertical components of the
-roller forces on the outer ring add up to W to rounding error; the horizontal components
+    \delta_j = \delta_r \cos\psi_j - P_d / 2
+
+(:math:`P_d`: radial internal clearance) and carries :math:`Q_j = K_n \delta_j^n` (zero
+when :math:`\delta_j \le 0`), :math:`K_n` being the two roller-raceway contacts in series.
+:math:`\delta_r` is solved so that the vertical components of the
+roller forces on the outer ring add up to :math:`W` to rounding error; the horizontal components
 are taken by the adapter's horizontal constraint (as in the finite element model).
 
-Line spall on the outer raceway (rectangular notch, arc length L, depth H, sharp edges).
-The rollers move counter-clockwise, so they enter at the lower angle. Each roller may bear
-on three supports, each with its own drop h of the roller centre (the rigid geometric
-path: pivot on the entry edge, floor, pivot on the exit edge):
+Line spall on the outer raceway (rectangular notch, arc length :math:`L`, depth :math:`H`,
+sharp edges). The rollers move counter-clockwise, so they enter at the lower angle. Each
+roller may bear on three supports, each with its own drop :math:`h` of the roller centre
+(the rigid geometric path: pivot on the entry edge, floor, pivot on the exit edge):
 
 - the raceway before the notch, ending at the entry corner: once the roller's foot has
   passed the corner the rigid roller pivots on it and its centre drops by
-  ``h = rho_corner - (R_o - r)`` (exact circle-on-corner geometry on the curved raceway);
-- the floor of the notch, drop H;
+  :math:`h = \rho_\mathrm{corner} - (R_o - r)` (exact circle-on-corner geometry on the
+  curved raceway);
+- the floor of the notch, drop :math:`H`;
 - the raceway after the notch, starting at the exit corner (mirror image of the first).
 
-The Hertz patch of the roller (half-width b, the healthy contact width at that
+The Hertz patch of the roller (half-width :math:`b`, the healthy contact width at that
 deflection, centred on the roller's foot) is shared by the supports: each carries the
-share ``phi`` of the semi-elliptic pressure that lies over it, and
+share :math:`\phi` of the semi-elliptic pressure that lies over it, and
 
-    Q = K_n * sum_k phi_k (delta_j - h_k)^n
+.. math::
+
+    Q = K_n \sum_k \phi_k (\delta_j - h_k)^n
 
 along the line from the roller centre to the contact point (radial on a surface, towards
 the corner while pivoting). The shares add up to one, so a spall of zero depth is the
-healthy raceway; as the patch crosses an edge its share moves gradually (phi = 0.5 with
-the patch centred on the edge) and the force is continuous in cage angle. Where the drop
-exceeds the deflection (the usual spall) the floor carries nothing: the roller de-stresses
-over about 2b at the entry edge and re-stresses over about 2b at the exit edge.
+healthy raceway; as the patch crosses an edge its share moves gradually
+(:math:`\phi = 0.5` with the patch centred on the edge) and the force is continuous in
+cage angle. Where the drop exceeds the deflection (the usual spall) the floor carries
+nothing: the roller de-stresses over about :math:`2b` at the entry edge and re-stresses
+over about :math:`2b` at the exit edge.
 
 The inner contact carries the radial component of the roller's outer force; the
 tangential component (non-zero only while pivoting) is taken by the cage pocket.
 
 Line spall on the inner raceway: the same supports on the convex raceway, the roller
-outside it dropping inward (``h = (R_i + r) - rho_corner`` while pivoting, the other root
-of the same circle-on-corner equation; :mod:`taichi_bearing.analytic.spall_contact`), the Hertz
-patch of the inner contact. The inner ring turns faster than the cage, so the rollers
+outside it dropping inward (:math:`h = (R_i + r) - \rho_\mathrm{corner}` while pivoting,
+the other root of the same circle-on-corner equation;
+:mod:`taichi_bearing.analytic.spall_contact`), the Hertz patch of the inner contact. The
+inner ring turns faster than the cage, so the rollers
 move clockwise relative to it and enter at the edge at the larger angle. The outer
 contact, healthy, carries the radial component of the inner contact's force. The spall
 turns with the shaft: its position relative to each roller changes with time, and a
@@ -50,7 +58,7 @@ load distribution is solved for given spall angles (``spall_angles``;
 :mod:`taichi_bearing.analytic.inner_race` gives those of a roller passing over it).
 
 The "step" model, for comparison, ignores the roller size and contact width: a roller
-whose contact point is inside the notch drops straight by H.
+whose contact point is inside the notch drops straight by :math:`H`.
 """
 
 from __future__ import annotations
@@ -194,7 +202,7 @@ def solve_load_distribution(
     n_rollers : int
         Number of rollers, equally spaced.
     load : float
-        Radial load W, N (> 0), pushing the outer ring down.
+        Radial load :math:`W`, N (> 0), pushing the outer ring down.
     cage_angles : array_like
         Angle(s) of roller 0, rad from 12 o'clock, counter-clockwise.
     spall : Spall, optional
@@ -272,12 +280,12 @@ def solve_load_distribution(
 
 
 def stribeck_ratio(dist: LoadDistribution) -> np.ndarray:
-    """Q_max Z / W at each cage angle (4.08 for line contact at zero clearance).
+    r""":math:`Q_\mathrm{max} Z / W` at each cage angle (4.08 for line contact at zero clearance).
 
     Examples
     --------
     Stribeck's constants from the load distribution of the default bearing at zero
-    clearance, roller 0 at 12 o'clock: 4.08 for line contact (``Q ~ delta^(10/9)``) and
+    clearance, roller 0 at 12 o'clock: 4.08 for line contact (:math:`Q \propto \delta^{10/9}`) and
     4.37 with the point-contact exponent 3/2 (ball bearings).
 
     >>> from taichi_bearing.case import Bearing, Material
@@ -294,8 +302,8 @@ def stribeck_ratio(dist: LoadDistribution) -> np.ndarray:
 
 
 def load_distribution_factor(dist: LoadDistribution, clearance: float) -> np.ndarray:
-    """Harris's epsilon = (1 - P_d / (2 delta_r)) / 2: 0.5 at zero clearance, below 0.5
-    with clearance (load zone under 180 degrees), above with preload."""
+    r"""Harris's :math:`\varepsilon = (1 - P_d / (2 \delta_r)) / 2`: 0.5 at zero clearance,
+    below 0.5 with clearance (load zone under 180 degrees), above with preload."""
     return 0.5 * (1.0 - clearance / (2.0 * dist.ring_displacement))
 
 

@@ -30,9 +30,9 @@ __all__ = ["Spall", "spall_from_case", "spall_supports", "support_fraction", "un
 
 @dataclass(frozen=True)
 class Spall:
-    """A line spall: the angles of its edges at the raceway (rad, from 12 o'clock, in the
-    fixed frame), its depth (m), the walls' angles from the raceway (rad; pi/2: radial)
-    and the radius rounding both edges (m; 0: sharp).
+    r"""A line spall: the angles of its edges at the raceway (rad, from 12 o'clock, in the
+    fixed frame), its depth (m), the walls' angles from the raceway (rad; :math:`\pi/2`:
+    radial) and the radius rounding both edges (m; 0: sharp).
 
     ``entry`` is the edge the rollers reach first. On the outer raceway they move
     counter-clockwise with the cage, so ``entry < exit``; on the inner raceway, which
@@ -143,13 +143,14 @@ def support_fraction(xi):
 
 
 def _corner_drop(delta_angle, r: float, r_o: float, sign: float = 1.0):
-    """Drop (towards the floor) of a rigid roller centre pivoting on a raceway corner, m.
+    r"""Drop (towards the floor) of a rigid roller centre pivoting on a raceway corner, m.
 
     The corner is at radius ``r_o``; the roller centre is ``delta_angle`` (>= 0) past it.
-    In an outer raceway (``sign`` +1) |centre - corner| = r gives
-    rho = r_o cos(d) - sqrt(r^2 - r_o^2 sin^2(d)) and the drop is measured outward from
-    the healthy position r_o - r; on an inner raceway (-1) the roller is outside, rho takes
-    the other root and the drop is inward from r_o + r. Infinite where the roller cannot
+    In an outer raceway (``sign`` +1) :math:`|\mathrm{centre} - \mathrm{corner}| = r` gives
+    :math:`\rho = r_o \cos d - \sqrt{r^2 - r_o^2 \sin^2 d}` (:math:`d` the ``delta_angle``)
+    and the drop is measured outward from the healthy position :math:`r_o - r`; on an inner
+    raceway (-1) the roller is outside, :math:`\rho` takes the other root and the drop is
+    inward from :math:`r_o + r`. Infinite where the roller cannot
     reach the corner.
     """
     s = r_o * np.sin(delta_angle)

@@ -16,17 +16,17 @@ __all__ = ["Material"]
 
 @dataclass(frozen=True)
 class Material:
-    """Linear elastic material (St Venant-Kirchhoff in large strain); the case gives one
+    r"""Linear elastic material (St Venant-Kirchhoff in large strain); the case gives one
     for every part of the bearing.
 
     Parameters
     ----------
     youngs_modulus : float
-        Young's modulus E, Pa.
+        Young's modulus :math:`E`, Pa.
     poissons_ratio : float
-        Poisson's ratio nu, in (-1, 0.5).
+        Poisson's ratio :math:`\nu`, in (-1, 0.5).
     density : float
-        Density rho, kg/m^3.
+        Density :math:`\rho`, kg/m^3.
     """
 
     youngs_modulus: float = key("GPa", gt=0.0, doc="Young's modulus E")
@@ -60,15 +60,16 @@ class Material:
 
     @property
     def plane_strain_modulus(self) -> float:
-        """E' = E / (1 - nu^2), the bending modulus of a plane-strain beam, Pa."""
+        r""":math:`E' = E / (1 - \nu^2)`, the bending modulus of a plane-strain beam, Pa."""
         return self.youngs_modulus / (1.0 - self.poissons_ratio**2)
 
     @property
     def wave_speed(self) -> float:
-        """Plane-strain dilatational wave speed sqrt((lambda + 2 mu) / rho), m/s."""
+        r"""Plane-strain dilatational wave speed :math:`\sqrt{(\lambda + 2 \mu) / \rho}`, m/s."""
         return math.sqrt((self.lam + 2.0 * self.mu) / self.density)
 
     @property
     def shear_wave_speed(self) -> float:
-        """Shear wave speed sqrt(mu / rho), m/s (the Rayleigh wave: 7 % slower at nu 0.3)."""
+        r"""Shear wave speed :math:`\sqrt{\mu / \rho}`, m/s (the Rayleigh wave: 7 % slower at
+        :math:`\nu` = 0.3)."""
         return math.sqrt(self.mu / self.density)

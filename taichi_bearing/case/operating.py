@@ -23,23 +23,25 @@ __all__ = [
 MM = 1e3  # m -> mm, for messages
 
 MAX_SURFACE_SPEED_RATIO = 0.1
-"""Fastest inner-raceway surface speed a case may have, as a fraction of the material's
+r"""Fastest inner-raceway surface speed a case may have, as a fraction of the material's
 shear wave speed (steel: 10 % of 3.2 km/s, 320 m/s). The inner raceway moves fastest of
 all the bearing's material (the rollers' points on it move with it; the contacts roll
-over both surfaces at (R_p + r) / (2 R_p) of it, R_p the pitch radius). Industrial
-bearings run below 1 % of the shear wave speed and the fastest built (aero-engine main
-shafts, DN ~ 3e6 mm rpm) at 5 to 8 %. At 10 % a ring's centrifugal hoop stress rho v^2
-is already mu / 100 (0.8 GPa in steel), and nearer the Rayleigh wave speed (7 % below
-the shear wave speed) a moving contact load is no longer the quasi-static Hertz contact
-that the preload, the analytic model and the penalty's calibration assume."""
+over both surfaces at :math:`(R_p + r) / (2 R_p)` of it, :math:`R_p` the pitch radius).
+Industrial bearings run below 1 % of the shear wave speed and the fastest built
+(aero-engine main shafts, DN ~ 3e6 mm rpm) at 5 to 8 %. At 10 % a ring's centrifugal hoop
+stress :math:`\rho v^2` is already :math:`\mu / 100` (0.8 GPa in steel), and nearer the
+Rayleigh wave speed (7 % below the shear wave speed) a moving contact load is no longer
+the quasi-static Hertz contact that the preload, the analytic model and the penalty's
+calibration assume."""
 
 MAX_PRESSURE_RATIO = 0.05
-"""Largest Hertz peak pressure of the most loaded contact (:func:`peak_contact_pressure`),
-as a fraction of Young's modulus E (steel: E / 20 = 10.5 GPa). The contact's half-width
-is ``b = 2 R p0 / E* = 4 (1 - nu^2) R p0 / E``: 0.18 R at E / 20, where Hertz's premise of
-a contact small against its radii is gone; in steel it is 2.6 times the static-capacity
-pressure (:data:`STATIC_CAPACITY_PRESSURE`) and three times the ~3.5 GPa at which hardened
-bearing steel first yields under a line contact. A run of it describes no bearing."""
+r"""Largest Hertz peak pressure of the most loaded contact (:func:`peak_contact_pressure`),
+as a fraction of Young's modulus :math:`E` (steel: :math:`E / 20` = 10.5 GPa). The
+contact's half-width is :math:`b = 2 R p_0 / E^* = 4 (1 - \nu^2) R p_0 / E`: :math:`0.18 R`
+at :math:`E / 20`, where Hertz's premise of a contact small against its radii is gone; in
+steel it is 2.6 times the static-capacity pressure (:data:`STATIC_CAPACITY_PRESSURE`) and
+three times the ~3.5 GPa at which hardened bearing steel first yields under a line
+contact. A run of it describes no bearing."""
 
 STATIC_CAPACITY_PRESSURE = 4.0e9
 """Hertz peak pressure of a roller bearing's basic static load rating, Pa (ISO 76 sets 4000
@@ -58,15 +60,16 @@ _LINE_CONTACT_EXPONENT = 10.0 / 9.0
 
 
 def peak_contact_pressure(case: Case) -> float:
-    """Hertz peak pressure of the most loaded contact of the healthy bearing, Pa.
+    r"""Hertz peak pressure of the most loaded contact of the healthy bearing, Pa.
 
     The roller at 12 o'clock under ``operating.load``, in the rigid-ring model of
     :mod:`taichi_bearing.analytic.quasistatic`, on the inner raceway (the smaller Hertz
-    radius, so the higher pressure): ``p0 = sqrt(Q E* / (pi R l))``. With clearance
-    ``P_d >= 0`` roller j carries at most ``Q cos^n(psi_j)``, with equality at ``P_d = 0``,
-    so ``Q >= W / sum(cos^(n+1) psi_j)`` over the rollers in the upper half: Stribeck's
-    load of the most loaded roller (4.08 W / Z for many rollers), exact at zero clearance
-    and a lower bound with clearance; with preload only ``W / sum(cos psi_j)`` is sure.
+    radius, so the higher pressure): :math:`p_0 = \sqrt{Q E^* / (\pi R l)}`. With clearance
+    :math:`P_d \ge 0` roller :math:`j` carries at most :math:`Q \cos^n \psi_j`, with equality
+    at :math:`P_d = 0`, so :math:`Q \ge W / \sum_j \cos^{n+1} \psi_j` over the rollers in the
+    upper half: Stribeck's load of the most loaded roller (:math:`4.08 W / Z` for many
+    rollers), exact at zero clearance and a lower bound with clearance; with preload only
+    :math:`W / \sum_j \cos \psi_j` is sure.
     A lower bound, so that a case refused on it is refused by the model too.
 
     Parameters

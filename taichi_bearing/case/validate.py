@@ -296,9 +296,9 @@ def _check_profile(case: Case, raceway: float, src: str | None) -> SpallProfile:
 
 
 def spall_reach(profile: SpallProfile, roller_radius: float) -> float:
-    """How far a rigid roller's centre drops into a spall, m: the most over its path.
+    r"""How far a rigid roller's centre drops into a spall, m: the most over its path.
 
-    About ``r - sqrt(r^2 - (L / 2)^2)`` for a short sharp-edged spall (the roller bridging
+    About :math:`r - \sqrt{r^2 - (L / 2)^2}` for a short sharp-edged spall (the roller bridging
     both edges); found along the roller's path by
     :func:`~taichi_bearing.geometry.roller_path.centre_drop`, which takes the raceway's
     curvature, the walls' slopes and the edges' radius into account. The profile's depth
@@ -404,11 +404,11 @@ def _smallest_size(case: Case) -> tuple[float, str]:
 
 
 def stable_step_estimate(case: Case) -> float:
-    """The explicit time step of a case before meshing, s.
+    r"""The explicit time step of a case before meshing, s.
 
-    The critical step ``2 / omega_e`` of a square element of the smallest surface size
+    The critical step :math:`2 / \omega_e` of a square element of the smallest surface size
     (``mesh.surface_size``, or ``spall_size`` or ``roller_surface_size`` when finer):
-    ``L / (sqrt(2) c)`` with ``c`` the plane-strain dilatational wave speed
+    :math:`L / (\sqrt{2} c)` with :math:`c` the plane-strain dilatational wave speed
     (:func:`taichi_bearing.solver.element.element_max_frequencies`). The solver's step
     is within a few tens of per cent of it (default case: 5.9e-8 s estimated, 5.4e-8 s
     used: the spall's thinner elements and damping lower it, the global estimate and mass

@@ -1,14 +1,14 @@
-"""The load zone's modulation of an inner-race spall's events, in the envelope spectrum
+r"""The load zone's modulation of an inner-race spall's events, in the envelope spectrum
 (numpy, and :mod:`diagnostics`; no Taichi).
 
 An inner-race spall turns with the shaft, through the load zone and out of it, once per
 shaft turn: its impacts are strong under the load and fade outside it. A train of
 impulses at BPFI whose strength repeats once per turn has, in its envelope spectrum,
-lines at ``k BPFI + m f_s``: the shaft-rate sidebands, whose size over the line at
-``BPFI`` is the ``m``-th Fourier coefficient of the strength over one turn over its mean
-(:func:`taichi_bearing.analytic.inner_race.sideband_ratio`). They are resolved only when the
-record is long enough that the spectrum's resolution, ``1 / T``, separates them from
-the line: ``T >= 2 / f_s`` here (two shaft turns).
+lines at :math:`k \, \mathrm{BPFI} + m f_s`: the shaft-rate sidebands, whose size over the
+line at BPFI is the :math:`m`-th Fourier coefficient of the strength over one turn over its
+mean (:func:`taichi_bearing.analytic.inner_race.sideband_ratio`). They are resolved only when the
+record is long enough that the spectrum's resolution, :math:`1 / T`, separates them from
+the line: :math:`T \ge 2 / f_s` here (two shaft turns).
 """
 
 from __future__ import annotations
@@ -116,13 +116,14 @@ def load_zone_check(
     passages: list[dict],
     reference: np.ndarray | None = None,
 ) -> tuple[dict, dict]:
-    """Shaft-rate sidebands around BPFI in the squared envelope spectrum: the inner-race
+    r"""Shaft-rate sidebands around BPFI in the squared envelope spectrum: the inner-race
     spall's impacts modulated by the load zone it turns through once per shaft turn.
 
-    Passes when both first sidebands, BPFI +- f_s, stand :data:`SIDEBAND_DB` over the
+    Passes when both first sidebands, :math:`\mathrm{BPFI} \pm f_s`, stand
+    :data:`SIDEBAND_DB` over the
     spectrum's median around BPFI; the value is their mean over the line at BPFI, beside
     the predictions for impulses growing with the load (squared envelope: the Fourier
-    coefficient of Q^2 over a turn), with the rigid-ring load zone and with the run's own
+    coefficient of :math:`Q^2` over a turn), with the rigid-ring load zone and with the run's own
     (``reference``: the flexible-ring forces of the preload, narrower on an
     adapter-hung ring). ``passed`` is None when the record is shorter than two shaft
     turns: the sidebands are not resolved and the modulation shows only in the passages'

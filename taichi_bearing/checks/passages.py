@@ -99,12 +99,13 @@ def _passage(
 
 
 def _reach(spall: Mapping, contact_radius: float) -> tuple[float, float, float]:
-    """Span of the spall, the lead before its entry edge and the distance before its exit
+    r"""Span of the spall, the lead before its entry edge and the distance before its exit
     edge at which the roller meets it, rad of the raceway.
 
-    A roller of curvature radius ``rho`` relative to the raceway over a notch of half-length
-    ``a`` dips ``rho - sqrt(rho^2 - a^2)`` into it; it meets the exit edge about
-    ``sqrt(2 rho d) + 0.5 mm`` before it (``d``: the depth, or the dip if smaller).
+    A roller of curvature radius :math:`\rho` relative to the raceway over a notch of
+    half-length :math:`a` dips :math:`\rho - \sqrt{\rho^2 - a^2}` into it; it meets the exit
+    edge about :math:`\sqrt{2 \rho d}` + 0.5 mm before it (:math:`d`: the depth, or the dip
+    if smaller).
     """
     radius = float(spall["raceway_radius"])
     half = 0.5 * float(spall["length"])
@@ -121,24 +122,24 @@ def detect_spall_events(
     roller_radius: float,
     shaft_speed: float = 0.0,
 ) -> list[SpallEvent]:
-    """Entry and exit of every roller that passes the spall.
+    r"""Entry and exit of every roller that passes the spall.
 
     Outer raceway: the roller's outer contact point lies on the radial line through its
     centre, so its position relative to the spall is the centre angle minus the spall's
-    start angle, ``rel`` (0 at the entry edge, ``span`` at the exit edge). ``F0``: the
+    start angle, ``rel`` (0 at the entry edge, ``span`` at the exit edge). :math:`F_0`: the
     median normal force on the outer raceway while the contact is more than 1 mm before
     the edge. Entry: the first time after ``rel = -1 mm`` that the force is below
-    ``F0 / 2``. Once the roller is within the distance at which it meets the exit edge,
-    ``sqrt(2 r d) + 0.5 mm`` before it (``d``: the spall depth, or the roller's dip into
+    :math:`F_0 / 2`. Once the roller is within the distance at which it meets the exit edge,
+    :math:`\sqrt{2 r d}` + 0.5 mm before it (:math:`d`: the spall depth, or the roller's dip into
     the notch if smaller; an impact on the floor earlier in the traverse is not taken for
-    the exit): first impact, the first force above ``F0 / 10``; exit (re-stressing), the
-    first time the force averaged over the last 0.1 ms exceeds ``F0 / 2``.
+    the exit): first impact, the first force above :math:`F_0 / 10`; exit (re-stressing),
+    the first time the force averaged over the last 0.1 ms exceeds :math:`F_0 / 2`.
 
     Inner raceway: the spall turns with the shaft (``shaft_speed``, rad/s), so its entry
-    edge, the one at the larger angle, is at ``theta_e(t) = theta_e0 + w_s t`` and
-    ``rel = theta_e(t) - theta_roller(t)`` grows as it overtakes the roller; the same
-    rules on the inner-raceway force, with the inner contact's curvature
-    (``1/r + 1/R_i``) for the dip. Passages of rollers carrying less than
+    edge, the one at the larger angle, is at :math:`\theta_e(t) = \theta_{e0} + \omega_s t`
+    and ``rel`` :math:`= \theta_e(t) - \theta_\mathrm{roller}(t)` grows as it overtakes the
+    roller; the same rules on the inner-raceway force, with the inner contact's curvature
+    (:math:`1/r + 1/R_i`) for the dip. Passages of rollers carrying less than
     :data:`UNLOADED_SHARE` of the most loaded roller's force (outside the load zone) are
     not events; :func:`spall_passages` lists every passage with its load.
 
@@ -181,8 +182,8 @@ def detect_spall_events(
 def _travel(
     hist: pd.DataFrame, j: int, spall: Mapping, race: str, shaft_speed: float
 ) -> np.ndarray | None:
-    """Unwrapped travel of roller ``j`` past the spall's entry edge, rad (``2 pi k`` at
-    its k-th crossing), or None without the roller's angle. Outer raceway: the roller's
+    r"""Unwrapped travel of roller ``j`` past the spall's entry edge, rad (:math:`2 \pi k` at
+    its :math:`k`-th crossing), or None without the roller's angle. Outer raceway: the roller's
     angle minus the fixed entry edge's; inner: the turning entry edge's angle minus the
     roller's."""
     a_col = roller_motion_column(j, "angle_rad")
@@ -283,7 +284,7 @@ def passage_signature(
     race: str = "outer",
     others: Sequence[Mapping] = (),
 ) -> dict[str, float]:
-    """Force and acceleration around one passage: what the reference study says the physics shows.
+    r"""Force and acceleration around one passage: what the reference study says the physics shows.
 
     Windows: entry ``[entry - window, entry + window / 2]``; traverse (with any floor
     impact) from half a window after entry to the first impact on the exit edge; exit
@@ -297,22 +298,22 @@ def passage_signature(
     extended spall one sensor records the other roller's entry and exit bursts while
     this one crosses the floor; separate passages do not overlap and leave it whole).
 
-    Returns the largest force on the roller in the entry and exit windows over ``F0``
+    Returns the largest force on the roller in the entry and exit windows over :math:`F_0`
     (outer or inner raceway, whichever is larger: the re-stressing squeezes the roller
     between both; about 1 or less at entry: no impulse), the number of separate impulses
-    of the outer-raceway force at exit (peaks standing at least ``F0 / 4`` above the
+    of the outer-raceway force at exit (peaks standing at least :math:`F_0 / 4` above the
     troughs either side: on a fine mesh the later impulses ride on the returning load,
-    0.25-0.45 F0 above their troughs on the default case), and the largest
-    |a - median| of ``signal`` in each window; and, for the study of how these converge
-    (:data:`PASSAGE_QUANTITIES`):
+    0.25-0.45 :math:`F_0` above their troughs on the default case), and the largest
+    :math:`|a - \mathrm{median}|` of ``signal`` in each window; and, for the study of how
+    these converge (:data:`PASSAGE_QUANTITIES`):
 
     - ``entry_destress_time_s``: the outer-raceway force falling from 90 % to 10 % of
-      ``F0`` around the entry (the last sample at or above 0.9 F0 before the entry, the
-      first at or below 0.1 F0 after it);
+      :math:`F_0` around the entry (the last sample at or above :math:`0.9 F_0` before the
+      entry, the first at or below :math:`0.1 F_0` after it);
     - ``exit_impulse_width_s``: the median width of the exit impulses at half their
       prominence (NaN without impulses);
     - ``exit_reload_time_s``: from the first touch of the exit edge until the force
-      averaged over :data:`RESTRESS_MEAN_S` regains 0.9 ``F0`` (NaN if it does not within
+      averaged over :data:`RESTRESS_MEAN_S` regains :math:`0.9 F_0` (NaN if it does not within
       the record);
     - ``exit_entry_accel_ratio``: the exit acceleration peak over the larger of the
       entry and traverse peaks (the exit-burst check's ratio);

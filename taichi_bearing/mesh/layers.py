@@ -19,11 +19,11 @@ COARSEN_ASPECT = 1.8
 
 
 def graded_layers(thickness: float, first: float, growth: float, max_size: float) -> np.ndarray:
-    """Thicknesses of layers filling ``thickness``, starting at ``first``.
+    r"""Thicknesses of layers filling ``thickness``, starting at ``first``.
 
-    The raw sequence ``first * growth**k`` (capped at ``max_size``) is cut at the layer
-    count whose stretch factor is closest to 1; layers after the first are then scaled so
-    the sum is exact.
+    The raw sequence :math:`\mathrm{first} \cdot \mathrm{growth}^k` (capped at ``max_size``)
+    is cut at the layer count whose stretch factor is closest to 1; layers after the first
+    are then scaled so the sum is exact.
 
     Returns
     -------

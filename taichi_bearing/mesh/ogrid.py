@@ -1,11 +1,12 @@
-"""O-grid disks: rings of quads around a square core, so no element degenerates at the
+r"""O-grid disks: rings of quads around a square core, so no element degenerates at the
 centre.
 
-The disk's surface level has ``n = 2 (p + q)`` cells split into four arcs of ``p, q, p, q``
-cells (top, left, bottom, right of the core square). Node positions ``u`` count surface
-cells counter-clockwise from the top-right corner; every level of the rings keeps those
-positions (coarser levels keep a subset), and a level ``k`` blends a circle of radius
-``rho_k`` with the core square: ``(1 - w_k) rho_k e(theta(u)) + w_k square(u)``.
+The disk's surface level has :math:`n = 2 (p + q)` cells split into four arcs of
+:math:`p, q, p, q` cells (top, left, bottom, right of the core square). Node positions
+:math:`u` count surface cells counter-clockwise from the top-right corner; every level of
+the rings keeps those positions (coarser levels keep a subset), and a level :math:`k`
+blends a circle of radius :math:`\rho_k` with the core square:
+:math:`(1 - w_k) \rho_k e(\theta(u)) + w_k \, \mathrm{square}(u)`.
 """
 
 from __future__ import annotations

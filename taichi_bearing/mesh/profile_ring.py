@@ -1,14 +1,15 @@
-"""A ring whose raceway follows a spall profile with sloped or rounded edges.
+r"""A ring whose raceway follows a spall profile with sloped or rounded edges.
 
 The rectangular notch (:mod:`taichi_bearing.mesh.rings`) is cut out of thin layers and
 its walls are columns of nodes. A sloped wall is not a column: here the raceway level
 itself follows the profile (:class:`~taichi_bearing.geometry.spall_profile.SpallProfile`),
 node by node along its arc length, and the levels below it close up onto the ring's
-ordinary level ``m`` (the first one at least half a surface element below the floor).
+ordinary level :math:`m` (the first one at least half a surface element below the floor).
 
-Every node of the profile has an *anchor*, the angle ``u`` at which its column meets level
-``m``, and level ``k <= m`` lies at ``P(u) + (Q_m(u) - P(u)) D_k / D_m`` (``P``: the
-profile point, ``Q_m``: the point of level ``m``, ``D_k``: the ordinary level depths).
+Every node of the profile has an *anchor*, the angle :math:`u` at which its column meets
+level :math:`m`, and level :math:`k \le m` lies at
+:math:`P(u) + (Q_m(u) - P(u)) D_k / D_m` (:math:`P`: the profile point, :math:`Q_m`: the
+point of level :math:`m`, :math:`D_k`: the ordinary level depths).
 Within a window round the spall the anchor lags behind the profile where it goes down a
 wall and runs ahead where it comes up the other one: the columns then lean into the
 material, so a steep (even radial) wall and the concave corner at its foot make convex

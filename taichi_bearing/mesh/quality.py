@@ -1,24 +1,24 @@
-"""Element quality and the explicit time step a mesh allows.
+r"""Element quality and the explicit time step a mesh allows.
 
 Definitions (the solver relies on the same ones):
 
 - element size: the shortest edge; aspect ratio: longest / shortest edge;
 - Jacobian ratio: smallest / largest determinant of the bilinear map over the four corners
   (1 for a parallelogram, <= 0 for an inverted or degenerate quad);
-- characteristic length ``L = A / d_max`` (area over the longer diagonal, as LS-DYNA does for
-  2-D solids); critical step ``dt = L / c`` with the plane-strain dilatational wave speed
-  ``c = sqrt((lambda + 2 mu) / rho)``.
+- characteristic length :math:`L = A / d_\mathrm{max}` (area over the longer diagonal, as
+  LS-DYNA does for 2-D solids); critical step :math:`\Delta t = L / c` with the
+  plane-strain dilatational wave speed :math:`c = \sqrt{(\lambda + 2 \mu) / \rho}`.
 
-Resolution: a wave is resolved where an element is at most ``1 / N`` of its wavelength,
-so a part resolves frequencies up to ``f = c_R / (N h)``, ``h`` its longest element edge.
-``c_R`` is the Rayleigh wave speed, the slowest wave in the bodies (0.93 of the shear wave
-speed for steel, half the dilatational one), so its wavelength is the shortest at a given
-frequency: it is the wave that carries a contact impulse along a raceway, and bending of
-the rings is slower still only where the ring is thin against the wavelength. ``N`` is
-10 by default (``mesh.elements_per_wavelength``): the usual rule for linear elements
-(Kuhlemeyer and Lysmer's ``h <= lambda / 10`` for wave propagation), at which a
-lumped-mass linear element's wave speed is low by about 1.6 % (``(k h)^2 / 24``); 20
-halves the element size for a quarter of that error.
+Resolution: a wave is resolved where an element is at most :math:`1 / N` of its
+wavelength, so a part resolves frequencies up to :math:`f = c_R / (N h)`, :math:`h` its
+longest element edge. :math:`c_R` is the Rayleigh wave speed, the slowest wave in the
+bodies (0.93 of the shear wave speed for steel, half the dilatational one), so its
+wavelength is the shortest at a given frequency: it is the wave that carries a contact
+impulse along a raceway, and bending of the rings is slower still only where the ring is
+thin against the wavelength. :math:`N` is 10 by default (``mesh.elements_per_wavelength``):
+the usual rule for linear elements (Kuhlemeyer and Lysmer's :math:`h \le \lambda / 10` for
+wave propagation), at which a lumped-mass linear element's wave speed is low by about
+1.6 % (:math:`(k h)^2 / 24`); 20 halves the element size for a quarter of that error.
 """
 
 from __future__ import annotations
@@ -63,7 +63,7 @@ def jacobian_determinants(
 
 
 def wave_speed(youngs_modulus: float, poissons_ratio: float, density: float) -> float:
-    """Plane-strain dilatational wave speed ``sqrt((lambda + 2 mu) / rho)``, m/s."""
+    r"""Plane-strain dilatational wave speed :math:`\sqrt{(\lambda + 2 \mu) / \rho}`, m/s."""
     e, nu = youngs_modulus, poissons_ratio
     if e <= 0 or density <= 0 or not -1 < nu < 0.5:
         raise ValueError(f"need E > 0, rho > 0 and -1 < nu < 0.5, got {e}, {density}, {nu}")
@@ -71,14 +71,14 @@ def wave_speed(youngs_modulus: float, poissons_ratio: float, density: float) -> 
 
 
 def shear_wave_speed(youngs_modulus: float, poissons_ratio: float, density: float) -> float:
-    """Shear wave speed ``sqrt(mu / rho)``, m/s."""
+    r"""Shear wave speed :math:`\sqrt{\mu / \rho}`, m/s."""
     return float(np.sqrt(youngs_modulus / (2.0 * (1.0 + poissons_ratio)) / density))
 
 
 def rayleigh_wave_speed(youngs_modulus: float, poissons_ratio: float, density: float) -> float:
-    """Rayleigh (surface) wave speed, m/s: the root ``xi = (c_R / c_s)^2`` in (0, 1) of
-    ``xi^3 - 8 xi^2 + (24 - 16 k) xi - 16 (1 - k) = 0``, ``k = (c_s / c_p)^2``
-    (plane strain, so ``c_p`` is the dilatational speed)."""
+    r"""Rayleigh (surface) wave speed, m/s: the root :math:`\xi = (c_R / c_s)^2` in (0, 1) of
+    :math:`\xi^3 - 8 \xi^2 + (24 - 16 k) \xi - 16 (1 - k) = 0`, :math:`k = (c_s / c_p)^2`
+    (plane strain, so :math:`c_p` is the dilatational speed)."""
     cs = shear_wave_speed(youngs_modulus, poissons_ratio, density)
     k = (cs / wave_speed(youngs_modulus, poissons_ratio, density)) ** 2
     roots = np.roots([1.0, -8.0, 24.0 - 16.0 * k, -16.0 * (1.0 - k)])

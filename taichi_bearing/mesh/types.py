@@ -1,4 +1,4 @@
-"""The mesh handed from the mesher to the solver: plain numpy arrays, SI units.
+r"""The mesh handed from the mesher to the solver: plain numpy arrays, SI units.
 
 Conventions (every producer and consumer relies on them):
 
@@ -7,8 +7,8 @@ Conventions (every producer and consumer relies on them):
 - ``elements`` are 4-node quadrilaterals listed counter-clockwise.
 - ``surfaces`` are ordered segment lists ``(n_segments, 2)`` of node indices, oriented so
   that the body lies on the LEFT of each segment (a->b). The outward normal of a segment
-  is therefore ``(dy, -dx) / length``. An outer boundary runs counter-clockwise, a hole's
-  boundary (e.g. the outer raceway) clockwise.
+  is therefore :math:`(\Delta y, -\Delta x) / \mathrm{length}`. An outer boundary runs
+  counter-clockwise, a hole's boundary (e.g. the outer raceway) clockwise.
 - Parts are numbered from 0; ``part_names[p]`` names part ``p``; ``element_part[e]`` is the
   part of element ``e``. Bodies that may separate (rings, rollers) share no nodes.
 """

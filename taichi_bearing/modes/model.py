@@ -1,4 +1,4 @@
-"""The finite element model of the modal analysis: the solver's own lumped masses and
+r"""The finite element model of the modal analysis: the solver's own lumped masses and
 small-strain stiffness, the supports the run uses, and linearised roller contacts.
 
 Everything here is numpy/scipy. The element routines are those of
@@ -6,10 +6,10 @@ Everything here is numpy/scipy. The element routines are those of
 reference state: uniform-strain part plus the Flanagan-Belytschko hourglass stiffness, and
 the per-element materials), numpy only: importing them does not start Taichi.
 
-The eigenproblem ``K u = omega^2 M u`` is solved in the mass-normalised form
-``S y = omega^2 y`` with ``S = B^T K B``, where ``B`` maps the kept coordinates ``y`` to
-nodal displacements ``u = B y``: fixed degrees of freedom are left out and the nodes of a
-rigid plate share one coordinate, whose mass is the plate's.
+The eigenproblem :math:`K u = \omega^2 M u` is solved in the mass-normalised form
+:math:`S y = \omega^2 y` with :math:`S = B^T K B`, where :math:`B` maps the kept
+coordinates :math:`y` to nodal displacements :math:`u = B y`: fixed degrees of freedom are
+left out and the nodes of a rigid plate share one coordinate, whose mass is the plate's.
 """
 
 from __future__ import annotations
@@ -46,7 +46,7 @@ class ModalModel:
     mesh : Mesh
         The parts analysed, nodes renumbered from 0.
     matrix : scipy.sparse.csr_matrix
-        ``S = B^T K B`` over the kept coordinates, 1/s^2.
+        :math:`S = B^T K B` over the kept coordinates, 1/s^2.
     basis : scipy.sparse.csr_matrix
         ``B`` (2 n_nodes, n_kept): nodal displacements (x0, y0, x1, ...) of each kept
         coordinate, m per unit of sqrt(kg) m.
@@ -106,7 +106,8 @@ def sub_mesh(mesh: Mesh, parts: list[str]) -> tuple[Mesh, np.ndarray]:
 
 
 def _stiffness_and_mass(mesh: Mesh, material: Material, thickness: float):
-    """``M^-1/2 K M^-1/2`` (sparse) and the lumped masses, as the explicit model has them."""
+    """:math:`M^{-1/2} K M^{-1/2}` (sparse) and the lumped masses, as the explicit model has
+    them."""
     nodes = np.asarray(mesh.nodes, dtype=float)
     elements = np.asarray(mesh.elements, dtype=np.int64)
     geo = element.element_geometry(nodes, elements)
@@ -121,7 +122,7 @@ def _stiffness_and_mass(mesh: Mesh, material: Material, thickness: float):
 def _reduction(
     n_nodes: int, mass: np.ndarray, fixed: np.ndarray, plate: np.ndarray | None
 ) -> tuple[sp.csr_matrix, sp.csr_matrix]:
-    """``B`` and ``P = M^1/2 B``: ``fixed`` nodes held in both directions; the ``plate``
+    """:math:`B` and :math:`P = M^{1/2} B`: ``fixed`` nodes held in both directions; the ``plate``
     nodes held in x and moving together in y (one coordinate with the plate's mass)."""
     n_dof = 2 * n_nodes
     target = np.arange(n_dof)
@@ -231,9 +232,9 @@ def _contact_spring(mesh: Mesh, a, b, normal: np.ndarray) -> np.ndarray:
 
 
 def contact_springs(case: Case, mesh: Mesh) -> tuple[list[tuple[np.ndarray, float]], int]:
-    """Linearised roller contacts of the statically loaded bearing: one spring along the
+    r"""Linearised roller contacts of the statically loaded bearing: one spring along the
     roller's radial line at its outer and at its inner contact, of the Palmgren law's
-    tangent stiffness ``dQ/d delta = n K^(1/n) Q^(1 - 1/n)`` at the quasi-static force
+    tangent stiffness :math:`dQ / d\delta = n K^{1/n} Q^{1 - 1/n}` at the quasi-static force
     (Harris's rigid-ring load distribution with the case's spall, rollers where the run
     starts them). Each end is spread over the surface nodes within two surface elements
     of the contact point. Returns the springs and the number of loaded rollers."""

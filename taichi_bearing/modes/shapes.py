@@ -1,9 +1,10 @@
-"""What a mode shape is, in words: rigid-body motion, or the number of nodal diameters of
+r"""What a mode shape is, in words: rigid-body motion, or the number of nodal diameters of
 a ring's (or roller's) radial displacement on its mid-circle, found by Fourier analysis.
 
-A ring mode with ``n`` nodal diameters has a radial displacement ``u_r ~ cos(n theta)``
-round the ring. In-plane bending (inextensional) modes move mostly radially
-(``|u_theta| = |u_r| / n`` for a thin ring); extensional modes mostly tangentially.
+A ring mode with :math:`n` nodal diameters has a radial displacement
+:math:`u_r \propto \cos n\theta` round the ring. In-plane bending (inextensional) modes
+move mostly radially (:math:`|u_\theta| = |u_r| / n` for a thin ring); extensional modes
+mostly tangentially.
 """
 
 from __future__ import annotations
@@ -27,10 +28,10 @@ _RIGID_LIKE = 0.5
 
 @dataclass(frozen=True)
 class BodyGeometry:
-    """A body's centre (m), the radius of its mid-circle (m, rings) or outline (m,
+    r"""A body's centre (m), the radius of its mid-circle (m, rings) or outline (m,
     disks), whether it is a ring round its centre, and what the Fourier analysis of its
     motion uses: the nodes near that circle, their angles about the centre and the
-    least-squares projector onto ``cos(n theta)``, ``sin(n theta)``."""
+    least-squares projector onto :math:`\cos n\theta`, :math:`\sin n\theta`."""
 
     centre: np.ndarray
     radius: float
@@ -103,8 +104,8 @@ def kinetic_shares(mesh: Mesh, mass: np.ndarray, shape: np.ndarray) -> np.ndarra
 
 
 def ring_harmonics(body: BodyGeometry, shape: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Fourier amplitudes ``sqrt(a_n^2 + b_n^2)`` of the radial and the tangential
-    displacement on a body's circle, harmonics n from 0 to ``body.n_max``."""
+    r"""Fourier amplitudes :math:`\sqrt{a_n^2 + b_n^2}` of the radial and the tangential
+    displacement on a body's circle, harmonics :math:`n` from 0 to ``body.n_max``."""
     u = shape[body.nodes]
     c, s = np.cos(body.theta), np.sin(body.theta)
     coef = body.projector @ np.stack([u[:, 0] * c + u[:, 1] * s, -u[:, 0] * s + u[:, 1] * c], 1)

@@ -91,7 +91,7 @@ def read_case_dict(run_dir: str | os.PathLike) -> dict:
 
 @dataclass
 class RunData:
-    """What a run folder holds, as plain data.
+    r"""What a run folder holds, as plain data.
 
     Attributes
     ----------
@@ -103,7 +103,8 @@ class RunData:
     histories : pandas.DataFrame
         The histories on disk: the merged file and/or the chunk parts.
     fs : float
-        Sampling rate of the histories, Hz: ``(rows - 1) / (last time - first time)``.
+        Sampling rate of the histories, Hz:
+        :math:`(\mathrm{rows} - 1) / (\mathrm{last\ time} - \mathrm{first\ time})`.
     t0 : float
         Time of the first history row, s.
     mesh_info : dict or None

@@ -109,11 +109,12 @@ def _save(fig: Figure, path: Path) -> Path:
 def notch_attenuation(
     x: np.ndarray, fs: float, frequencies, Q: float = NOTCH_Q, nperseg: int = 4096
 ) -> list[dict]:
-    """Attenuation (dB) of each notch at its tone, measured on Welch PSDs of the signal
+    r"""Attenuation (dB) of each notch at its tone, measured on Welch PSDs of the signal
     before and after all notches.
 
     For each frequency the PSD bin with the largest level within two bins of it is taken
-    (the tone's peak), and the attenuation is ``10 log10(before / after)`` at that bin.
+    (the tone's peak), and the attenuation is
+    :math:`10 \log_{10}(\mathrm{before} / \mathrm{after})` at that bin.
     Frequencies outside ``(0, fs/2)`` are listed with NaN and a note.
     """
     freqs = [float(f) for f in frequencies]

@@ -1,12 +1,13 @@
-"""The transient run's driver: sample by sample, advance the model (the time loop is
+r"""The transient run's driver: sample by sample, advance the model (the time loop is
 :func:`taichi_bearing.solver.stepping.advance`) and record averaged sensor histories,
 energies, frames, checkpoints; stop safely on NaN, inverted elements or energy errors;
 resume; show progress.
 
-The output interval ``T_s = 1 / sample_rate`` is an exact whole number ``S`` of steps (the
-step is lowered to fit). Sample ``k`` is the mean of the sensor values at the ``S`` steps
-``t_n`` in ``((k-1) T_s, k T_s]`` (a boxcar anti-alias filter, group delay ``T_s / 2``),
-labelled with time ``k T_s``; the energies are those at ``k T_s``. The sums are taken in a
+The output interval :math:`T_s = 1 / \mathrm{sample\_rate}` is an exact whole number
+:math:`S` of steps (the step is lowered to fit). Sample :math:`k` is the mean of the sensor
+values at the :math:`S` steps :math:`t_n` in :math:`((k-1) T_s, k T_s]` (a boxcar
+anti-alias filter, group delay :math:`T_s / 2`), labelled with time :math:`k T_s`; the
+energies are those at :math:`k T_s`. The sums are taken in a
 Taichi kernel each step and read once per sample.
 """
 

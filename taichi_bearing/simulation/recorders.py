@@ -48,10 +48,11 @@ def roller_motion_columns(n_rollers: int) -> list[str]:
 
 
 class RollerMotionRecorder(Recorder):
-    """Each roller's centre angle, spin and radius at the end of each sample interval.
+    r"""Each roller's centre angle, spin and radius at the end of each sample interval.
 
     The centre is the mass centroid of the roller's nodes; the spin is
-    ``sum m r x (v - v_c) / sum m |r|^2`` about it (exact for a rigid roller). Both are
+    :math:`\sum m \, r \times (v - v_c) / \sum m |r|^2` about it (exact for a rigid roller).
+    Both are
     computed on the model's device
     (:class:`~taichi_bearing.simulation.roller_readout.RollerReadout`): a sample reads
     three numbers a roller.

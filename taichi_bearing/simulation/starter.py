@@ -91,10 +91,10 @@ def roller_names(n_rollers: int) -> list[str]:
 
 
 def rolling_rates(case: Case) -> RollingRates:
-    """Shaft, cage and roller spin speeds of ideal rolling (outer ring at rest).
+    r"""Shaft, cage and roller spin speeds of ideal rolling (outer ring at rest).
 
-    A roller's centre moves at ``omega_c R_p``; for its outer contact point to be at rest
-    its spin ``omega_r`` satisfies ``omega_c R_p + omega_r r = 0``.
+    A roller's centre moves at :math:`\omega_c R_p`; for its outer contact point to be at
+    rest its spin :math:`\omega_r` satisfies :math:`\omega_c R_p + \omega_r r = 0`.
     """
     b = case.bearing
     shaft = case.operating.speed
@@ -103,11 +103,11 @@ def rolling_rates(case: Case) -> RollingRates:
 
 
 def align_rollers(mesh: Mesh, n_rollers: int) -> Mesh:
-    """The mesh with every roller turned about its centre so that one of its surface
+    r"""The mesh with every roller turned about its centre so that one of its surface
     nodes points straight at the outer raceway (radially outwards).
 
     A roller's surface is a polygon whose radius along a given direction varies between
-    ``r cos(pi / N)`` (mid-facet) and ``r`` (at a node): 2.6 um for 150 facets on a 12 mm
+    :math:`r \cos(\pi / N)` (mid-facet) and :math:`r` (at a node): 2.6 um for 150 facets on a 12 mm
     radius, comparable with the ~7 um Hertz deflection of a loaded contact. Meshed alike
     in global axes, rollers at different angles would meet the raceways with different
     effective radii and share the load unevenly. Turned alike relative to their radial

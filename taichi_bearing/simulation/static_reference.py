@@ -1,26 +1,29 @@
-"""Flexible-ring static reference: the roller forces of the preload with the rings'
+r"""Flexible-ring static reference: the roller forces of the preload with the rings'
 elasticity, from a linear finite element model of the rings and one Palmgren spring per
 roller.
 
 Harris's load distribution (:mod:`taichi_bearing.analytic.quasistatic`) moves the outer ring as a
-rigid body: roller ``j`` at angle ``psi_j`` from 12 o'clock is squeezed by
-``delta_j = v cos(psi_j) - c / 2`` for a ring drop ``v`` and clearance ``c``. Here the
-rings are the case's own mesh (rollers left out), small-strain linear elastic, held as
+rigid body: roller :math:`j` at angle :math:`\psi_j` from 12 o'clock is squeezed by
+:math:`\delta_j = v \cos\psi_j - c / 2` for a ring drop :math:`v` and clearance :math:`c`.
+Here the rings are the case's own mesh (rollers left out), small-strain linear elastic, held as
 the explicit model holds them: the bore fixed and the loading plate
 (:func:`~taichi_bearing.simulation.starter.support_plate_nodes`) rigid, moving vertically only.
-Each roller becomes a pair of equal and opposite forces ``Q_j`` along its radial line on
-the outer and the inner raceway (spread over the raceway nodes within two surface
+Each roller becomes a pair of equal and opposite forces :math:`Q_j` along its radial line
+on the outer and the inner raceway (spread over the raceway nodes within two surface
 elements of its foot), so
 
-    delta_j = v cos(psi_j) - c / 2 - g_j - sum_k C_jk Q_k,    Q_j = K max(delta_j, 0)^n,
-    sum_j Q_j cos(psi_j) = W,
+.. math::
 
-with ``K`` the two Palmgren contacts in series (the analytical model's law), ``g_j`` the
-extra radial gap of the meshed raceways at the roller's foot (a spall floor under all of
-it),
-and ``C`` the rings' compliance: the opening of gap ``j`` per unit force pair ``k`` with
-the plate held (one sparse factorisation, one solve per roller). With ``C = 0`` the
-equations are Harris's. Newton's method solves them for ``delta`` and ``v``.
+    \delta_j = v \cos\psi_j - c / 2 - g_j - \sum_k C_{jk} Q_k, \quad
+    Q_j = K \max(\delta_j, 0)^n, \quad
+    \sum_j Q_j \cos\psi_j = W,
+
+with :math:`K` the two Palmgren contacts in series (the analytical model's law),
+:math:`g_j` the extra radial gap of the meshed raceways at the roller's foot (a spall
+floor under all of it), and :math:`C` the rings' compliance: the opening of gap :math:`j`
+per unit force pair :math:`k` with the plate held (one sparse factorisation, one solve per
+roller). With :math:`C = 0` the equations are Harris's. Newton's method solves them for
+:math:`\delta` and :math:`v`.
 """
 
 from __future__ import annotations

@@ -1,4 +1,4 @@
-"""A rigid cage: a ring with one pocket per roller, turning about the bearing centre with
+r"""A rigid cage: a ring with one pocket per roller, turning about the bearing centre with
 one rotational degree of freedom, driven by penalty contact with the rollers' surfaces.
 
 Pocket ``j`` is centred on the radial line at angle ``pocket_angles[j] + angle`` and has
@@ -8,14 +8,15 @@ tangential offset from the pocket line exceeds ``half_gap`` penetrates a wall; i
 the force of its contact law (:mod:`~taichi_bearing.solver.laws.contact`: normal along
 the pocket's tangential direction) and friction along the wall
 (:mod:`~taichi_bearing.solver.laws.friction`), the cage the reaction torque. The cage
-angle and speed are integrated with the model's leapfrog: ``omega^{n+1/2} = omega^{n-1/2}
-+ dt T^n / I``, ``angle^{n+1} = angle^n + dt omega^{n+1/2}``.
+angle and speed are integrated with the model's leapfrog:
+:math:`\omega^{n+1/2} = \omega^{n-1/2} + \Delta t \, T^n / I`,
+:math:`\varphi^{n+1} = \varphi^n + \Delta t \, \omega^{n+1/2}` (:math:`\varphi` the angle).
 
 Penalty stiffness of a node: the law's
 (:meth:`~taichi_bearing.solver.laws.contact.ContactLaw.node_stiffness`): ``"segment"``, the
-mean of the LS-DYNA stiffness ``f_s K L^2 t / area`` of its two roller segments;
-``"soft"``, ``f_s m / dt^2`` with the node mass (the cage counts as infinitely heavy next
-to one node).
+mean of the LS-DYNA stiffness :math:`f_s K L^2 t / \mathrm{area}` of its two roller
+segments; ``"soft"``, :math:`f_s m / \Delta t^2` with the node mass (the cage counts as
+infinitely heavy next to one node).
 """
 
 # No `from __future__ import annotations`: Taichi reads kernel annotations at definition.
@@ -162,7 +163,7 @@ class RigidCage(ForceContributor):
         start_speed: float | Sequence[float] = 0.0,
     ) -> "RigidCage":
         """The cage of a bearing mesh (``mesh.info["cage"]``, rollers ``roller{j}``): a
-        ring between the nominal inner and outer radii, ``I = m (r_i^2 + r_o^2) / 2``,
+        ring between the nominal inner and outer radii, :math:`I = m (r_i^2 + r_o^2) / 2`,
         pocket walls at roller radius + half the pocket clearance, turning at
         ``start_speed`` (rad/s, one value or one per ensemble member) at time 0 of a
         transient. An ensemble's model (a stacked mesh,
@@ -366,7 +367,7 @@ class RigidCage(ForceContributor):
         )
 
     def energies(self) -> dict[str, float]:
-        """``kinetic`` (I w^2 / 2), ``elastic`` (stored penalty), ``friction`` and
+        r"""``kinetic`` (:math:`I \omega^2 / 2`), ``elastic`` (stored penalty), ``friction`` and
         ``damping`` (dissipated so far), J."""
         n = self.n_nodes
         diss, en, et = transfer.download((self.diss, self.en, self.et))

@@ -1,4 +1,4 @@
-"""2-D penalty node-to-segment contact with Coulomb friction and viscous damping, a
+r"""2-D penalty node-to-segment contact with Coulomb friction and viscous damping, a
 :class:`~taichi_bearing.solver.contributor.ForceContributor`.
 
 Each step, for every node of every surface that takes part in a pass (a "query"):
@@ -7,25 +7,27 @@ Each step, for every node of every surface that takes part in a pass (a "query")
    (segments of the surfaces this node's surface is paired with, each pass of a pair);
 2. the candidate segment closest to the node (true distance to the segment, so the line
    of a segment beyond a convex vertex never wins; ties to the lower index); contact if
-   the node is behind it, gap ``g = (x - a) . n < 0``, no deeper than the capture depth
-   (a node in the wedge outside a convex vertex is caught by the other pass);
+   the node is behind it, gap :math:`g = (x - a) \cdot n < 0`, no deeper than the capture
+   depth (a node in the wedge outside a convex vertex is caught by the other pass);
    with ``smoothing`` the gap and normal are those of the segment's reference arc laid
-   on the current chord: ``g -= kappa L^2 xi (1 - xi) / 2`` and the normal turned by
-   ``kappa L (xi - 1/2)`` (``kappa`` from
+   on the current chord: :math:`g` less :math:`\kappa L^2 \xi (1 - \xi) / 2` and the
+   normal turned by :math:`\kappa L (\xi - 1/2)` (:math:`\kappa` from
    :func:`~taichi_bearing.solver.contact_setup.segment_curvature`; 0 at flats, corners
    and open ends), so a polygonal roller rolls like a circle (no facet ripple);
-3. normal force ``fn = max(0, k (-g) - c v_n)``, ``c = 2 zeta sqrt(k m_eff)``;
-4. friction: elastic stick ``ft_trial = ft_old - k dt v_t`` (tangential spring of the
-   normal penalty stiffness), return-mapped onto ``|ft| <= mu fn`` with
-   ``mu = mu_d + (mu_s - mu_d) exp(-decay |v_t|)``; ``ft`` is kept per query while the
-   node stays on the same segment or moves to a neighbouring segment (sharing a node),
-   and reset to zero when the contact opens or jumps elsewhere;
-5. the force ``fn n + ft t`` on the node, its reaction on the segment's two nodes split
-   by the projection ``xi`` (clamped to [0, 1]); the pair resultant (force BY the slave
-   body ON the master body) summed.
+3. normal force :math:`f_n = \max(0, k (-g) - c v_n)`,
+   :math:`c = 2 \zeta \sqrt{k m_\mathrm{eff}}`;
+4. friction: elastic stick :math:`f_t^\mathrm{trial} = f_t^\mathrm{old} - k \Delta t v_t`
+   (tangential spring of the normal penalty stiffness), return-mapped onto
+   :math:`|f_t| \le \mu f_n` with
+   :math:`\mu = \mu_d + (\mu_s - \mu_d) \exp(-\mathrm{decay} \, |v_t|)`; :math:`f_t` is kept
+   per query while the node stays on the same segment or moves to a neighbouring segment
+   (sharing a node), and reset to zero when the contact opens or jumps elsewhere;
+5. the force :math:`f_n n + f_t t` on the node, its reaction on the segment's two nodes
+   split by the projection :math:`\xi` (clamped to [0, 1]); the pair resultant (force BY
+   the slave body ON the master body) summed.
 
-Velocities are ``model.v`` = v^{n-1/2}, positions ``model.x`` = x^n (what the model has
-when the contributors are called).
+Velocities are ``model.v`` = :math:`v^{n-1/2}`, positions ``model.x`` = :math:`x^n` (what
+the model has when the contributors are called).
 
 Search: a uniform square grid over the surfaces' box (see
 :func:`~taichi_bearing.solver.contact_setup.grid_spec`), each segment binned in the cells

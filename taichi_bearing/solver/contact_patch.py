@@ -24,11 +24,14 @@ def arc_frame(c: ti.template(), s, xi, x: ti.template()):
 
 @ti.func
 def patch_overlap(c: ti.template(), q, i, s, pen0, xi_raw, x: ti.template()):
-    """Penetration of the query's tributary arc (half-way to each neighbour) into
-    segment s's arc, ``p(r) = pen0 - r dot(u, n) - (kappa_q + kappa_s) r^2 / 2`` along
-    the arc length r from the node (u: the query surface's direction, reversed).
+    r"""Penetration of the query's tributary arc (half-way to each neighbour) into
+    segment s's arc,
+    :math:`p(r) = \mathrm{pen}_0 - r \, (u \cdot n) - (\kappa_q + \kappa_s) r^2 / 2` along
+    the arc length :math:`r` from the node (:math:`u`: the query surface's direction,
+    reversed).
 
-    Returns (mean of max(0, p) over the patch, mean of max(0, p)^2 / 2, largest p):
+    Returns (mean of :math:`\max(0, p)` over the patch, mean of :math:`\max(0, p)^2 / 2`,
+    largest :math:`p`):
     the first is the penalty's penetration (its sum over nodes is the integral of the
     overlap along the surface, which does not ripple as a polygon rolls), the second
     the stored energy per unit k. Exact (3-point Gauss on each piece where p > 0).

@@ -29,34 +29,38 @@ PENALTY_METHODS = ("segment", "soft", "pressure")
 
 @dataclass(frozen=True)
 class ContactParameters:
-    """Penalty, friction and damping constants shared by every contact pair.
+    r"""Penalty, friction and damping constants shared by every contact pair.
 
     Attributes
     ----------
     penalty_method : {"segment", "soft", "pressure"}
-        ``"segment"``: LS-DYNA's segment-based stiffness ``k = f_s K A^2 / V`` of the
-        master segment, with ``K = lambda + 2 mu / 3`` the bulk modulus of the element
-        the segment bounds, ``A = L t`` the segment area (length x thickness) and
-        ``V = area t`` the element volume, i.e. ``k = f_s K L^2 t / area``.
-        ``"soft"``: ``k = f_s m_eff / dt^2`` with ``m_eff = m_s m_m / (m_s + m_m)``, the
-        slave node mass and the master mass interpolated at the contact point, and the
-        model's current time step (LS-DYNA's SOFT=1 idea).
+        ``"segment"``: LS-DYNA's segment-based stiffness :math:`k = f_s K A^2 / V` of the
+        master segment, with :math:`K = \lambda + 2 \mu / 3` the bulk modulus of the
+        element the segment bounds, :math:`A = L t` the segment area (length x thickness)
+        and :math:`V = \mathrm{area} \, t` the element volume, i.e.
+        :math:`k = f_s K L^2 t / \mathrm{area}`.
+        ``"soft"``: :math:`k = f_s m_\mathrm{eff} / \Delta t^2` with
+        :math:`m_\mathrm{eff} = m_s m_m / (m_s + m_m)`, the slave node mass and the master
+        mass interpolated at the contact point, and the model's current time step
+        (LS-DYNA's SOFT=1 idea).
         ``"pressure"``: a pressure per unit overlap ``penalty_pressure`` on every mesh
         (:class:`~taichi_bearing.solver.laws.contact.PressurePenalty`).
     penalty_scale : float
-        ``f_s`` above (LS-DYNA's default is 0.1); the pressure law does not read it.
+        :math:`f_s` above (LS-DYNA's default is 0.1); the pressure law does not read it.
     penalty_pressure : float
-        The pressure law's ``p_s``, Pa/m (required by it, unused by the others).
+        The pressure law's :math:`p_s`, Pa/m (required by it, unused by the others).
     friction_static, friction_dynamic : float
-        Coulomb coefficients; ``mu = mu_d + (mu_s - mu_d) exp(-decay |v_slip|)``.
+        Coulomb coefficients;
+        :math:`\mu = \mu_d + (\mu_s - \mu_d) \exp(-\mathrm{decay} \, |v_\mathrm{slip}|)`.
     friction_decay : float
         Exponential decay coefficient, s/m.
     damping_ratio : float
-        Viscous contact damping ``c = 2 zeta sqrt(k m_eff)`` as a fraction of critical.
+        Viscous contact damping :math:`c = 2 \zeta \sqrt{k m_\mathrm{eff}}` as a fraction
+        of critical.
     smoothing : bool
         Contact against the arc each master segment had in the mesh rather than against
         its chord (see :func:`segment_curvature`): removes the polygon's facet ripple
-        (sagitta ``L^2 / (8 R)``) from rolling contact. Flat segments and segments at
+        (sagitta :math:`L^2 / (8 R)`) from rolling contact. Flat segments and segments at
         corners stay straight, so ``False`` and ``True`` agree on them.
     """
 
@@ -107,7 +111,7 @@ class ContactParameters:
         )
 
     def friction_coefficient(self, slip_speed: float | np.ndarray) -> float | np.ndarray:
-        """``mu_d + (mu_s - mu_d) exp(-decay |v|)``."""
+        r""":math:`\mu_d + (\mu_s - \mu_d) \exp(-\mathrm{decay} \, |v|)`."""
         mu_s, mu_d = self.friction_static, self.friction_dynamic
         return mu_d + (mu_s - mu_d) * np.exp(-self.friction_decay * np.abs(slip_speed))
 
@@ -256,14 +260,15 @@ class GridSpec:
 def grid_spec(
     points: np.ndarray, seg_lengths: np.ndarray, pad: float = 0.15, density: float = 4.0
 ) -> GridSpec:
-    """Size the search grid for surfaces with these node positions and segment lengths.
+    r"""Size the search grid for surfaces with these node positions and segment lengths.
 
     The cell is at least the longest segment plus twice (capture + margin), so a segment,
-    with its bounding box grown by capture + margin, overlaps at most 4 cells; and at
-    least ``sqrt(box area / (density n_segments))``, so there are at most ``density``
-    cells per segment (the search stays linear in the surface size). The box is padded
-    by ``pad`` of its size; points outside it fall into the border cells (still correct).
-    Capture depth: 0.3 x the longest segment; margin: 0.25 x the median segment.
+    with its bounding box grown by capture + margin, overlaps at most 4 cells; and at least
+    :math:`\sqrt{\mathrm{box\ area} / (\mathrm{density} \cdot n_\mathrm{segments})}`, so
+    there are at most ``density`` cells per segment (the search stays linear in the surface
+    size). The box is padded by ``pad`` of its size; points outside it fall into the border
+    cells (still correct). Capture depth: 0.3 x the longest segment; margin: 0.25 x the
+    median segment.
     """
     l_max = float(seg_lengths.max())
     capture = 0.3 * l_max

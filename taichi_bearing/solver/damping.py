@@ -10,26 +10,28 @@ __all__ = ["StiffnessDamping"]
 
 
 class StiffnessDamping:
-    """Stiffness-proportional damping ``C = beta K`` with ``beta = 2 zeta / omega``.
+    r"""Stiffness-proportional damping :math:`C = \beta K` with :math:`\beta = 2 \zeta / \omega`.
 
     It acts on the strain rate only (Green strain rate, hourglass rate), so rigid-body
     motion, spin included, is not braked. It shortens the stable step by
-    ``sqrt(1 + zeta_e^2) - zeta_e``, ``zeta_e = beta omega_e / 2`` at the highest element
-    frequency ``omega_e``: 0.02 at 20 kHz on 0.5 mm steel elements costs a factor ~9.
+    :math:`\sqrt{1 + \zeta_e^2} - \zeta_e`, :math:`\zeta_e = \beta \omega_e / 2` at the
+    highest element frequency :math:`\omega_e`: 0.02 at 20 kHz on 0.5 mm steel elements
+    costs a factor ~9.
 
     Parameters
     ----------
     ratio : float
-        Fraction of critical damping ``zeta`` at ``frequency_hz``.
+        Fraction of critical damping :math:`\zeta` at ``frequency_hz``.
     frequency_hz : float
         Frequency where the ratio holds; higher modes get more, lower modes less.
     max_element_ratio : float, optional
-        Cap on ``zeta_e``: elements whose own highest frequency would be damped more get a
-        smaller ``beta``, which bounds the step cost (0.1: factor ~0.9, 0.5: 0.62, 1:
+        Cap on :math:`\zeta_e`: elements whose own highest frequency would be damped more
+        get a smaller :math:`\beta`, which bounds the step cost (0.1: factor ~0.9, 0.5: 0.62, 1:
         0.41). Every mode that lives in such elements is damped less than the law, by the
         same factor, at any frequency: with the cap 0.1 an element of highest frequency
-        ``f_e`` keeps ``min(1, 0.1 / (ratio f_e / frequency_hz))`` of it (steel elements
-        of 3 to 0.5 mm: ``f_e`` 0.6 to 6 MHz, so 1/6 to 1/60 of the law).
+        :math:`f_e` keeps :math:`\min(1, 0.1 / (\mathrm{ratio} \, f_e / \mathrm{frequency\_hz}))`
+        of it (steel elements of 3 to 0.5 mm: :math:`f_e` 0.6 to 6 MHz, so 1/6 to 1/60 of
+        the law).
     """
 
     def __init__(

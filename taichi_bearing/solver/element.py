@@ -1,16 +1,17 @@
-"""Reference-configuration data of the 1-point quadrilateral (numpy, computed once).
+r"""Reference-configuration data of the 1-point quadrilateral (numpy, computed once).
 
 The element is the Flanagan-Belytschko uniform-strain quadrilateral: the deformation
-gradient is ``F = sum_I x_I (x) b_I`` with the mean shape-function gradients ``b_I`` over
-the reference element, which is exact for any linear field (patch test). The hourglass
-modes are caught by ``q = sum_I gamma_I x_I`` with the FB vectors
-``gamma_I = (h_I - (h . X_j) b_jI) / 4``, ``h = (1, -1, 1, -1)``, which vanish for every
-linear field; the hourglass force ``f_I = -k gamma_I q`` turns with the body, so it is
-objective, and it derives from the energy ``k |q|^2 / 2``.
+gradient is :math:`F = \sum_I x_I \otimes b_I` with the mean shape-function gradients
+:math:`b_I` over the reference element, which is exact for any linear field (patch test).
+The hourglass modes are caught by :math:`q = \sum_I \gamma_I x_I` with the FB vectors
+:math:`\gamma_I = (h_I - (h \cdot X_j) b_{jI}) / 4`, :math:`h = (1, -1, 1, -1)`, which
+vanish for every linear field; the hourglass force :math:`f_I = -k \gamma_I q` turns with
+the body, so it is objective, and it derives from the energy :math:`k |q|^2 / 2`.
 
-The hourglass stiffness ``k = (2/3) E' t A (b . b)`` is the value for which a square
-element carries exactly the bending energy of a plane-strain beam (E' = E / (1 - nu^2)),
-so a few elements through a thickness bend without shear locking.
+The hourglass stiffness :math:`k = \frac{2}{3} E' t A (b \cdot b)` is the value for which
+a square element carries exactly the bending energy of a plane-strain beam
+(:math:`E' = E / (1 - \nu^2)`), so a few elements through a thickness bend without shear
+locking.
 """
 
 from __future__ import annotations
@@ -154,11 +155,12 @@ def element_max_frequencies(
     thickness: float,
     stiffness: np.ndarray | None = None,
 ) -> np.ndarray:
-    """Highest angular frequency ``omega_e`` of each element alone with its lumped mass
+    r"""Highest angular frequency :math:`\omega_e` of each element alone with its lumped mass
     (``stiffness``: the :func:`element_stiffness` matrices, when already at hand).
 
     By the element eigenvalue theorem no frequency of the assembled mesh exceeds the
-    largest ``omega_e``. For a square of side L, ``2 / omega_e = 0.707 L / c``: the familiar
+    largest :math:`\omega_e`. For a square of side :math:`L`,
+    :math:`2 / \omega_e = 0.707 L / c`: the familiar
     characteristic length (area / longest diagonal) over the dilatational wave speed.
     """
     K = element_stiffness(geo, lam, mu, khg, thickness) if stiffness is None else stiffness
@@ -171,8 +173,8 @@ def element_max_frequencies(
 def assembled_matrix(
     values: np.ndarray, elements: np.ndarray, nodal_mass: np.ndarray
 ) -> sp.csr_matrix:
-    """``M^-1/2 (sum_e A_e) M^-1/2`` of element matrices ``A_e`` (n_elements, 8, 8), dofs
-    ordered (x0, y0, x1, ...), with the lumped masses ``M`` (n_nodes,)."""
+    r""":math:`M^{-1/2} (\sum_e A_e) M^{-1/2}` of element matrices :math:`A_e` (n_elements, 8,
+    8), dofs ordered (x0, y0, x1, ...), with the lumped masses :math:`M` (n_nodes,)."""
     ne = len(elements)
     n_dof = 2 * len(nodal_mass)
     dof = np.stack([2 * elements, 2 * elements + 1], axis=2).reshape(ne, 8)
@@ -190,7 +192,7 @@ def assembled_max_frequency(
     node_stiffness: np.ndarray | None = None,
     node_damping: np.ndarray | None = None,
 ) -> tuple[float, float]:
-    """Highest angular frequency of the assembled mesh with lumped masses, and the damping
+    r"""Highest angular frequency of the assembled mesh with lumped masses, and the damping
     ratio of that mode.
 
     The element bound (:func:`element_max_frequencies`) is reached only when the highest
@@ -198,17 +200,18 @@ def assembled_max_frequency(
     larger ones (graded layers under a surface, the corners of a spall) the shared nodes
     carry the larger elements' mass and the mesh's highest frequency is lower. This is
     the global estimate an explicit code can use instead (Abaqus/Explicit's "global
-    estimator"): the largest eigenvalue of ``M^-1/2 K M^-1/2``, by Lanczos. Constraints
+    estimator"): the largest eigenvalue of :math:`M^{-1/2} K M^{-1/2}`, by Lanczos. Constraints
     are left out, which can only raise it (eigenvalue interlacing).
 
     Parameters
     ----------
     stiffness : sparse matrix
-        ``M^-1/2 K M^-1/2`` (:func:`assembled_matrix` of :func:`element_stiffness`).
+        :math:`M^{-1/2} K M^{-1/2}` (:func:`assembled_matrix` of :func:`element_stiffness`).
     nodal_mass : ndarray (n_nodes,)
         Lumped masses, kg.
     damping : sparse matrix, optional
-        ``M^-1/2 C M^-1/2`` of the stiffness-proportional damping ``C = sum beta_e K_e``.
+        :math:`M^{-1/2} C M^{-1/2}` of the stiffness-proportional damping
+        :math:`C = \sum_e \beta_e K_e`.
     node_stiffness, node_damping : ndarray (n_nodes,), optional
         Springs (N/m) and dashpots (N s/m) to ground on both directions of each node: a
         bound on what penalty contact can add there.
@@ -218,7 +221,7 @@ def assembled_max_frequency(
     omega : float
         Highest angular frequency, rad/s (the Ritz value raised by its error bound).
     zeta : float
-        Damping ratio of that mode, ``phi^T C phi / (2 omega)`` (0 without damping).
+        Damping ratio of that mode, :math:`\phi^T C \phi / (2 \omega)` (0 without damping).
     """
     m2 = np.repeat(np.asarray(nodal_mass, dtype=float), 2)
     a = stiffness
@@ -243,9 +246,9 @@ def assembled_max_frequency(
 
 
 def critical_time_steps(omega: np.ndarray, beta: np.ndarray | float = 0.0) -> np.ndarray:
-    """Stable central-difference step of each element, s: ``2 / omega_e``, lowered by
-    stiffness-proportional damping ``beta`` by ``sqrt(1 + zeta^2) - zeta``,
-    ``zeta = beta omega_e / 2``."""
+    r"""Stable central-difference step of each element, s: :math:`2 / \omega_e`, lowered by
+    stiffness-proportional damping :math:`\beta` by :math:`\sqrt{1 + \zeta^2} - \zeta`,
+    :math:`\zeta = \beta \omega_e / 2`."""
     zeta = 0.5 * np.asarray(beta) * omega
     return 2.0 / omega * (np.sqrt(1.0 + zeta**2) - zeta)
 
@@ -253,7 +256,8 @@ def critical_time_steps(omega: np.ndarray, beta: np.ndarray | float = 0.0) -> np
 def hourglass_stiffness(
     geo: ElementGeometry, eprime: np.ndarray, thickness: float, scale: float = 1.0
 ) -> np.ndarray:
-    """``k = scale (2/3) E' t A dot(b, b)``: bending-exact for square elements."""
+    r""":math:`k = \mathrm{scale} \cdot \frac{2}{3} E' t A (b \cdot b)`: bending-exact for
+    square elements."""
     bb = np.sum(geo.b**2, axis=(1, 2))
     return scale * (2.0 / 3.0) * eprime * thickness * geo.area * bb
 
@@ -261,10 +265,11 @@ def hourglass_stiffness(
 def selective_mass_scale(
     omega: np.ndarray, element_mass: np.ndarray, part: np.ndarray, max_added: float
 ) -> np.ndarray:
-    """Density factors that lift the smallest elements' critical steps to a common target.
+    r"""Density factors that lift the smallest elements' critical steps to a common target.
 
-    Selective mass scaling: an element whose step ``2 / omega_e`` is below the target ``T``
-    gets its density times ``(T omega_e / 2)^2``, which puts its step at ``T``. ``T`` is the
+    Selective mass scaling: an element whose step :math:`2 / \omega_e` is below the target
+    :math:`T` gets its density times :math:`(T \omega_e / 2)^2`, which puts its step at
+    :math:`T`. :math:`T` is the
     largest element step for which the mass added to every part stays within ``max_added``
     of that part's mass, so a few small elements (a spall corner) stop setting the step of
     the whole model while the parts' inertia is unchanged to that fraction.
@@ -284,7 +289,7 @@ def selective_mass_scale(
     -------
     ndarray (n_elements,)
         Factor on each element's density (1 where unscaled); the scaled elements'
-        frequencies become ``omega / sqrt(factor)``.
+        frequencies become :math:`\omega / \sqrt{\mathrm{factor}}`.
     """
     scale = np.ones(len(omega))
     if not max_added > 0 or len(omega) < 2:

@@ -1,15 +1,16 @@
-"""The element in the time loop (Taichi functions): the 1-point plane-strain quadrilateral
+r"""The element in the time loop (Taichi functions): the 1-point plane-strain quadrilateral
 with the model's constitutive law (``m.material_law``,
 :mod:`taichi_bearing.solver.laws.material`; St Venant-Kirchhoff by default),
 Flanagan-Belytschko hourglass control and stiffness-proportional damping. Its reference
-data (gradients ``b``, hourglass vectors ``gamma``, areas) come from
+data (gradients :math:`b`, hourglass vectors :math:`\gamma`, areas) come from
 :mod:`taichi_bearing.solver.element`.
 
-Per element ``e`` with nodes ``c[k]``: ``F = sum_k x_k (x) b_k``, Green strain
-``E = (F^T F - I) / 2``, second Piola-Kirchhoff stress ``S(E)`` of the law (St
-Venant-Kirchhoff: ``S = lambda tr(E) I + 2 mu E``),
-nodal forces ``f_k = -A t F S b_k + gamma_k f_q`` with the hourglass force
-``f_q = -k_hg q``, ``q = sum_k gamma_k x_k``. Damping adds ``beta`` times the same law of
+Per element :math:`e` with nodes ``c[k]``: :math:`F = \sum_k x_k \otimes b_k`, Green
+strain :math:`E = (F^T F - I) / 2`, second Piola-Kirchhoff stress :math:`S(E)` of the law
+(St Venant-Kirchhoff: :math:`S = \lambda \operatorname{tr}(E) I + 2 \mu E`), nodal forces
+:math:`f_k = -A t F S b_k + \gamma_k f_q` with the hourglass force
+:math:`f_q = -k_\mathrm{hg} q`, :math:`q = \sum_k \gamma_k x_k`. Damping adds
+:math:`\beta` times the same law of
 the Green strain rate (zero for any rigid motion, so spin is not braked), the rate taken
 over the element's step from its strain history (:func:`seed_strain_history`).
 """
@@ -31,8 +32,8 @@ __all__ = [
 
 @ti.func
 def gradient(field: ti.template(), c, bx, by, g):
-    """Mean gradient ``sum_k y_k (x) b_k`` and hourglass sum ``sum_k gamma_k y_k`` of a
-    node field ``y`` over an element's nodes ``c``."""
+    r"""Mean gradient :math:`\sum_k y_k \otimes b_k` and hourglass sum
+    :math:`\sum_k \gamma_k y_k` of a node field :math:`y` over an element's nodes ``c``."""
     G = ti.Matrix.zero(ti.f64, 2, 2)
     h = ti.Vector.zero(ti.f64, 2)
     for k in ti.static(range(4)):
@@ -44,7 +45,7 @@ def gradient(field: ti.template(), c, bx, by, g):
 
 @ti.func
 def green_strain(F):
-    """The Green strain ``(F^T F - I) / 2`` of a deformation gradient ``F``."""
+    """The Green strain :math:`(F^T F - I) / 2` of a deformation gradient :math:`F`."""
     return 0.5 * (F.transpose() @ F - ti.Matrix.identity(ti.f64, 2))
 
 
@@ -89,12 +90,13 @@ def element_forces(m: ti.template(), e, dt, damped: ti.template()):
 
 @ti.kernel
 def seed_strain_history(m: ti.template(), dt: ti.f64, multirate: ti.i32):
-    """Each element's strain history (``m.e_prev``, ``m.q_prev``: the Green strain and
+    r"""Each element's strain history (``m.e_prev``, ``m.q_prev``: the Green strain and
     hourglass sum at its previous evaluation, one element step ``dt_e`` ago) as the
-    nodes' present velocities imply it: ``E - dt_e dE/dt`` with the Green strain rate
-    ``sym(F^T grad v)`` and ``q - dt_e sum gamma v``. The next evaluation's rates from
-    the history are then those of the velocities, as a restart (half step) takes them.
-    ``dt_e`` is ``dt`` times ``2**c`` for an element of multi-rate class ``c`` (the
+    nodes' present velocities imply it: :math:`E - \Delta t_e \, dE/dt` with the Green
+    strain rate :math:`\operatorname{sym}(F^T \nabla v)` and
+    :math:`q - \Delta t_e \sum \gamma v`. The next evaluation's rates from the history are
+    then those of the velocities, as a restart (half step) takes them.
+    ``dt_e`` is ``dt`` times :math:`2^c` for an element of multi-rate class :math:`c` (the
     fastest of its nodes' classes) when ``multirate``, else ``dt``."""
     for e in range(m.n_elements):
         c = m.conn[e]

@@ -60,7 +60,7 @@ def _scalar_field(n: int, dtype=ti.f64):
 
 @ti.data_oriented
 class Model(ModelState):
-    """A plane-strain explicit model built from a :class:`Mesh`.
+    r"""A plane-strain explicit model built from a :class:`Mesh`.
 
     Parameters
     ----------
@@ -82,7 +82,7 @@ class Model(ModelState):
         Time step as a fraction of the critical step.
     time_step : {"element", "global"}
         How the critical step is found. ``"element"``: the smallest element's own
-        (``2 / omega_e``, the element eigenvalue bound; with a square element this is
+        (:math:`2 / \omega_e`, the element eigenvalue bound; with a square element this is
         the characteristic length over the wave speed). ``"global"``: the assembled
         mesh's highest frequency (:func:`~taichi_bearing.solver.element.assembled_max_frequency`),
         never smaller, and larger where small elements border larger ones; force

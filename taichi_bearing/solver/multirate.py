@@ -1,19 +1,21 @@
-"""Multi-rate (subcycled) stepping: which nodes and elements step less often (numpy).
+r"""Multi-rate (subcycled) stepping: which nodes and elements step less often (numpy).
 
-A node of class ``c`` changes its velocity once every ``2**c`` steps, by ``2**c dt`` times
-its acceleration then; its position moves every step with the velocity it has, which is
-the linear interpolation of its leapfrog path between its own steps (the nodal partition
-of Belytschko, Yen and Mullen 1979, with linear interpolation at the interface). An element
+A node of class :math:`c` changes its velocity once every :math:`2^c` steps, by
+:math:`2^c \Delta t` times its acceleration then; its position moves every step with the
+velocity it has, which is the linear interpolation of its leapfrog path between its own
+steps (the nodal partition of Belytschko, Yen and Mullen 1979, with linear interpolation
+at the interface). An element
 belongs to the fastest class among its nodes and is evaluated only at the steps where that
 class moves: every node then finds the forces of all its elements at its own steps, and an
 element on the interface between two classes runs at the faster one.
 
-Classes come from the stable step: a node takes the largest ``c`` with ``2**c dt`` within
+Classes come from the stable step: a node takes the largest :math:`c` with
+:math:`2^c \Delta t` within
 ``dt_factor`` times the critical step of every element it belongs to (the same margin the
 single-rate step keeps), and class 0 wherever anything but its elements acts on it (a
 contact, the cage, a load, a constraint) or a sensor reads it: force contributors and the
 outputs then see every step as before. Every class moves at the steps that are multiples
-of ``2**levels``, so outputs recorded there see one consistent state.
+of :math:`2^\mathrm{levels}`, so outputs recorded there see one consistent state.
 """
 
 from __future__ import annotations
@@ -30,7 +32,8 @@ MAX_LEVELS = 4
 
 @dataclass(frozen=True)
 class StepClasses:
-    """Step class of every node and element (step ``2**class`` times the run's step).
+    r"""Step class of every node and element (step :math:`2^\mathrm{class}` times the run's
+    step).
 
     Attributes
     ----------

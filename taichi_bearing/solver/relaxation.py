@@ -1,7 +1,8 @@
-"""Dynamic relaxation: damped explicit steps until the structure is at rest under its loads.
+r"""Dynamic relaxation: damped explicit steps until the structure is at rest under its loads.
 
-Mass-proportional viscous damping ``c`` is set adaptively to critical damping of the
-current deflection shape (Underwood): ``omega^2 ~ 2 (U_int + U_hg) / sum m |u|^2``, the
+Mass-proportional viscous damping :math:`c` is set adaptively to critical damping of the
+current deflection shape (Underwood):
+:math:`\omega^2 \approx 2 (U_\mathrm{int} + U_\mathrm{hg}) / \sum m |u|^2`, the
 Rayleigh quotient of the displacement, which under a static load is close to the lowest
 loaded mode. Loads act at full value and prescribed rotations are held at angle zero.
 """

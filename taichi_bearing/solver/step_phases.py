@@ -1,4 +1,4 @@
-"""What happens in one time step: the step body, written once.
+r"""What happens in one time step: the step body, written once.
 
 A step (central difference, leapfrog) from time ``t_n`` runs five phases in order; every
 stepping mode (:mod:`taichi_bearing.solver.stepping`) runs exactly these, and each phase
@@ -12,7 +12,8 @@ starts once every member has finished the one before:
 3. ``GATHER``: each contributor's end of the step (sums over the step, a rigid body's own
    update), and each rigid-plate node's force along the plate;
 4. ``NODES``: each node gathers its element forces in a fixed order, adds ``f_extra`` and
-   the loads, and moves: ``v^{n+1/2} = v^{n-1/2} + dt a^n``, ``x^{n+1} = x^n + dt v^{n+1/2}``,
+   the loads, and moves: :math:`v^{n+1/2} = v^{n-1/2} + \Delta t \, a^n`,
+   :math:`x^{n+1} = x^n + \Delta t \, v^{n+1/2}`,
    then constraints and the work of the non-elastic forces; a plate node takes the
    plate's one velocity, which each of them sums from the plate forces in one order;
 5. ``SENSORS`` (one member): the sensor sums, averaged later over each output interval.
@@ -305,7 +306,7 @@ def node_step(m: ti.template(), i, t_rot, dt, dt_v, first, c_mass, rec, moving):
 @ti.func
 def node_multirate(m: ti.template(), i, t_rot, dt, dt_v, first, c_mass, rec, moving):
     """Node ``i`` under multi-rate stepping: at a step of its class, the update of
-    :func:`node_update` with its class's velocity step (``2**c`` times ``dt_v``); between
+    :func:`node_update` with its class's velocity step (:math:`2^c` times ``dt_v``); between
     them it keeps its velocity and moves with it (linear interpolation of its path). Its
     velocity at ``t_n`` where it does not update is its current one. Only nodes nothing but
     their elements acts on are in a class above 0."""

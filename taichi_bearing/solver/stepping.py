@@ -403,8 +403,8 @@ def _seed_history(model, relax: bool) -> None:
     """Seed the damped elements' strain history from the velocities
     (:func:`~taichi_bearing.solver.element_forces.seed_strain_history`) where it does not
     hold the last steps: after a restart, a new state or step, or where the elements'
-    steps change (relaxation is single-rate; a multi-rate transient steps class ``c``
-    every ``2**c`` steps). A history read from a checkpoint is kept (bit-for-bit resume)."""
+    steps change (relaxation is single-rate; a multi-rate transient steps class :math:`c`
+    every :math:`2^c` steps). A history read from a checkpoint is kept (bit-for-bit resume)."""
     if not model.damped:
         return
     multirate = int(model.multirate_levels > 0 and not relax)

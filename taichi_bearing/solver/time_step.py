@@ -17,13 +17,13 @@ TIME_STEP_METHODS = ("element", "global")
 
 
 class CriticalStep:
-    """The critical step of a model, found when first asked for and again after a
+    r"""The critical step of a model, found when first asked for and again after a
     contributor declares a bound (:meth:`add_bound`).
 
     Parameters
     ----------
     method : {"element", "global"}
-        ``"element"``: the smallest element's own step (``2 / omega_e``, the element
+        ``"element"``: the smallest element's own step (:math:`2 / \omega_e`, the element
         eigenvalue bound; for a square element, its characteristic length over the wave
         speed). ``"global"``: the assembled mesh's highest frequency
         (:func:`~taichi_bearing.solver.element.assembled_max_frequency`), never smaller,

@@ -1,19 +1,20 @@
-"""The numerics of a convergence study: relative changes between levels, the observed
+r"""The numerics of a convergence study: relative changes between levels, the observed
 order of convergence, Richardson's extrapolation and the verdicts (pure functions, numpy
 only; no run folder, no I/O).
 
-Levels go from coarse to fine. Each level has a spacing ``h`` that shrinks as it refines:
-the element size for a mesh study, and ``1 / scale`` for a penalty study (a stiffer
-penalty is the finer level: the penetration, the error of a penalty contact, goes as
-``1 / k``). Three successive levels, coarsest to finest ``(h3, h2, h1)`` with values
-``(f3, f2, f1)``, fit ``f(h) = f0 + C h^p`` exactly. With a constant refinement ratio
-``r = h3 / h2 = h2 / h1`` the order is ``p = ln(|f3 - f2| / |f2 - f1|) / ln(r)``; with
-unequal ratios ``p`` solves ``(f3 - f2) / (f2 - f1) = (h3^p - h2^p) / (h2^p - h1^p)``
-(the same model, bisection on a function that rises with ``p``). Richardson's estimate of
-the converged value is ``f1 + (f1 - f2) / (r21^p - 1)`` with ``r21 = h2 / h1``.
+Levels go from coarse to fine. Each level has a spacing :math:`h` that shrinks as it
+refines: the element size for a mesh study, and :math:`1 / \mathrm{scale}` for a penalty
+study (a stiffer penalty is the finer level: the penetration, the error of a penalty
+contact, goes as :math:`1 / k`). Three successive levels, coarsest to finest
+:math:`(h_3, h_2, h_1)` with values :math:`(f_3, f_2, f_1)`, fit :math:`f(h) = f_0 + C h^p`
+exactly. With a constant refinement ratio :math:`r = h_3 / h_2 = h_2 / h_1` the order is
+:math:`p = \ln(|f_3 - f_2| / |f_2 - f_1|) / \ln r`; with unequal ratios :math:`p` solves
+:math:`(f_3 - f_2) / (f_2 - f_1) = (h_3^p - h_2^p) / (h_2^p - h_1^p)` (the same model,
+bisection on a function that rises with :math:`p`). Richardson's estimate of the converged
+value is :math:`f_1 + (f_1 - f_2) / (r_{21}^p - 1)` with :math:`r_{21} = h_2 / h_1`.
 
 The order means something only where the three values converge monotonically (successive
-differences of one sign, shrinking) and ``p`` lies in :data:`ORDER_RANGE`; otherwise no
+differences of one sign, shrinking) and :math:`p` lies in :data:`ORDER_RANGE`; otherwise no
 estimate is given and :attr:`OrderEstimate.reason` says why.
 """
 
@@ -59,12 +60,12 @@ class OrderEstimate:
     Attributes
     ----------
     order : float
-        ``p``; NaN where it cannot be computed (see ``reason``); computed but outside
+        :math:`p`; NaN where it cannot be computed (see ``reason``); computed but outside
         :data:`ORDER_RANGE` it is given with ``meaningful`` False.
     extrapolated : float
         Richardson's estimate of the converged value; NaN unless ``meaningful``.
     meaningful : bool
-        Monotone convergence with ``p`` in :data:`ORDER_RANGE`.
+        Monotone convergence with :math:`p` in :data:`ORDER_RANGE`.
     reason : str
         What the three values do, in words (why there is no estimate, where there is none).
     """
@@ -91,7 +92,7 @@ class Verdict:
 
 
 def spacings(levels: Sequence[float]) -> list[float]:
-    """The spacing ``h`` of each level: the levels themselves when they decrease (element
+    """The spacing :math:`h` of each level: the levels themselves when they decrease (element
     sizes), their inverses when they increase (penalty scales).
 
     Raises
@@ -114,7 +115,7 @@ def spacings(levels: Sequence[float]) -> list[float]:
 
 
 def relative_changes(values: Sequence[float]) -> list[float]:
-    """``(f[i+1] - f[i]) / |f[i+1]|`` for each pair of successive levels: the change on
+    """:math:`(f_{i+1} - f_i) / |f_{i+1}|` for each pair of successive levels: the change on
     refining, relative to the finer level's value (the better one). NaN where either is
     NaN or the finer value is zero."""
     out = []
@@ -126,14 +127,15 @@ def relative_changes(values: Sequence[float]) -> list[float]:
 
 
 def _ratio_of_differences(p: float, r32: float, r21: float) -> float:
-    """``(h3^p - h2^p) / (h2^p - h1^p)`` with ``r32 = h3 / h2``, ``r21 = h2 / h1`` (both
-    > 1): ``(r32^p - 1) / (1 - r21^-p)``, which rises with ``p``."""
+    """:math:`(h_3^p - h_2^p) / (h_2^p - h_1^p)` with :math:`r_{32} = h_3 / h_2`,
+    :math:`r_{21} = h_2 / h_1` (both > 1): :math:`(r_{32}^p - 1) / (1 - r_{21}^{-p})`, which
+    rises with :math:`p`."""
     return math.expm1(p * math.log(r32)) / -math.expm1(-p * math.log(r21))
 
 
 def _solve_order(ratio: float, h3: float, h2: float, h1: float) -> float:
-    """``p`` with ``(h3^p - h2^p) / (h2^p - h1^p) = ratio``; NaN if ``p <= 0``, inf if
-    above 64."""
+    r""":math:`p` with :math:`(h_3^p - h_2^p) / (h_2^p - h_1^p) = \mathrm{ratio}`; NaN if
+    :math:`p \le 0`, inf if above 64."""
     r32, r21 = h3 / h2, h2 / h1
     if abs(math.log(r32) - math.log(r21)) <= 1e-12 * math.log(r21):
         p = math.log(ratio) / math.log(r21)  # constant ratio: the closed form
@@ -161,9 +163,9 @@ def observed_order(
     Parameters
     ----------
     h : three floats
-        Spacings, coarsest to finest (``h3 > h2 > h1 > 0``; :func:`spacings`).
+        Spacings, coarsest to finest (:math:`h_3 > h_2 > h_1 > 0`; :func:`spacings`).
     f : three floats
-        The quantity at those levels (``f3, f2, f1``).
+        The quantity at those levels (:math:`f_3, f_2, f_1`).
     order_range : (float, float)
         Orders outside this range are reported but give no estimate.
 
@@ -173,7 +175,8 @@ def observed_order(
 
     Examples
     --------
-    ``f(h) = 1 + 3 h^2`` at ``h = 1, 0.5, 0.25`` gives ``p = 2`` and ``f0 = 1``:
+    :math:`f(h) = 1 + 3 h^2` at :math:`h = 1, 0.5, 0.25` gives :math:`p = 2` and
+    :math:`f_0 = 1`:
 
     >>> e = observed_order([1, 0.5, 0.25], [4.0, 1.75, 1.1875])
     >>> round(e.order, 12), round(e.extrapolated, 12), e.meaningful

@@ -46,13 +46,13 @@ METRICS: dict[str, tuple[str, str]] = {
 
 
 def envelope_level_at(x, fs: float, f0: float) -> float:
-    """Amplitude of the squared envelope's component at ``f0`` (Hz).
+    r"""Amplitude of the squared envelope's component at ``f0`` (Hz).
 
-    The squared Hilbert envelope, mean removed, projected on ``exp(-2 pi i f0 t)``:
-    ``2 |sum e_k exp(-2 pi i f0 k / fs)| / n``. When the record holds a whole number of
-    ``f0`` periods this is the :func:`diagnostics.envelope_spectrum` bin at
+    The squared Hilbert envelope, mean removed, projected on :math:`e^{-2 \pi i f_0 t}`:
+    :math:`2 \bigl|\sum_k e_k e^{-2 \pi i f_0 k / f_s}\bigr| / n`. When the record holds a
+    whole number of ``f0`` periods this is the :func:`diagnostics.envelope_spectrum` bin at
     ``f0``; otherwise it is that spectrum zero-padded and read at ``f0`` exactly (records
-    shorter than ``1/f0`` do not resolve the line: the level then measures the envelope's
+    shorter than :math:`1/f_0` do not resolve the line: the level then measures the envelope's
     slow fluctuation).
     """
     env = envelope(x, fs) ** 2

@@ -1,4 +1,4 @@
-"""Sweep outputs: ``sweep_summary.csv`` (a column per varied key), figures and
+r"""Sweep outputs: ``sweep_summary.csv`` (a column per varied key), figures and
 ``sweep_report.md`` / ``.html``, all computed from the per-cell rows (nothing typed in).
 The report leads with the verdict (cells finished and failed; for a load x speed sweep
 whether each quantity grows with load and with speed, for any other grid each quantity's
@@ -7,7 +7,8 @@ with the quantities' definitions and how the sweep was made.
 
 A load x speed sweep (the varied keys are ``operating.load_kN`` and
 ``operating.speed_rpm``) also gets percentage-increase tables and trend sentences: for
-each quantity, ``100 (q / q_ref - 1)`` with ``q_ref`` the same quantity at the lowest load
+each quantity, :math:`100 (q / q_\mathrm{ref} - 1)` with :math:`q_\mathrm{ref}` the same
+quantity at the lowest load
 (same speed) or at the lowest speed (same load). Any other grid gets each quantity against
 its first varied key, one line per combination of the others.
 """

@@ -1,16 +1,17 @@
-"""An elastic bar striking a rigid wall, against the one-dimensional wave solution: the
+r"""An elastic bar striking a rigid wall, against the one-dimensional wave solution: the
 contact's pressure plateau and duration, and what the penalty adds to them.
 
-A bar of length ``L`` and Poisson's ratio 0 in plane strain carries one-dimensional waves
-(no lateral coupling) at ``c = sqrt(E / rho)``. Striking a rigid wall at ``v0`` it is
-pressed by ``rho c v0`` over its end for exactly ``2 L / c``: the compression wave runs to
-the free end and back, and the bar leaves the wall at ``v0`` (Johnson, Impact Strength of
-Materials, 1972, ch. 1; Timoshenko and Goodier, Theory of Elasticity, sec. 144). A penalty
-contact of pressure ``p_s`` per unit overlap is a spring in front of the bar's end: the
-end slows by ``sigma / (rho c)`` as the spring presses it, so the overlap grows as
-``delta' = v0 - p_s delta / (rho c)`` and the pressure rises as
-``rho c v0 (1 - exp(-t / tau))``, ``tau = rho c / p_s``: half the plateau at ``tau ln 2``.
-It lets go as late, so the time above half the plateau keeps ``2 L / c``. A stiff
+A bar of length :math:`L` and Poisson's ratio 0 in plane strain carries one-dimensional
+waves (no lateral coupling) at :math:`c = \sqrt{E / \rho}`. Striking a rigid wall at
+:math:`v_0` it is pressed by :math:`\rho c v_0` over its end for exactly :math:`2 L / c`:
+the compression wave runs to the free end and back, and the bar leaves the wall at
+:math:`v_0` (Johnson, Impact Strength of Materials, 1972, ch. 1; Timoshenko and Goodier,
+Theory of Elasticity, sec. 144). A penalty contact of pressure :math:`p_s` per unit overlap
+is a spring in front of the bar's end: the end slows by :math:`\sigma / (\rho c)` as the
+spring presses it, so the overlap grows as :math:`\dot\delta = v_0 - p_s \delta / (\rho c)`
+and the pressure rises as :math:`\rho c v_0 (1 - e^{-t / \tau})`,
+:math:`\tau = \rho c / p_s`: half the plateau at :math:`\tau \ln 2`. It lets go as late,
+so the time above half the plateau keeps :math:`2 L / c`. A stiff
 penalty on a coarse mesh rings with the mesh's highest modes instead (the plateau's mean
 and the duration then move by a few %).
 
@@ -38,7 +39,7 @@ V0 = 1.0  # m/s
 
 @dataclass(frozen=True)
 class BarImpact:
-    """One run: the contact force history and its reading against the wave solution.
+    r"""One run: the contact force history and its reading against the wave solution.
 
     Attributes
     ----------
@@ -49,9 +50,9 @@ class BarImpact:
     time, force : ndarray
         Mid-times (s) and mean pair force over each sample (N, compressive positive).
     plateau, plateau_exact : float
-        Mean force over the middle half of the contact, N; ``rho c v0 A``.
+        Mean force over the middle half of the contact, N; :math:`\rho c v_0 A`.
     duration, duration_exact : float
-        Time the force stays above half the exact plateau, s; ``2 L / c``.
+        Time the force stays above half the exact plateau, s; :math:`2 L / c`.
     onset : float
         When the force first reaches half the exact plateau (linear between samples), s.
     rebound : float

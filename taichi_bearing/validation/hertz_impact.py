@@ -1,11 +1,11 @@
-"""The quasi-static Hertz impact of two elastic bodies in plane strain: the reference of
+r"""The quasi-static Hertz impact of two elastic bodies in plane strain: the reference of
 :mod:`taichi_bearing.validation.impact`.
 
-A line contact's approach under line load P, measured between the bodies' far faces, is
-``delta = (2 P / (pi E*)) ln(Lambda / b(P))`` (the form from Johnson's half-space
-compression; :func:`half_space_size` gives Lambda for two half-spaces, the impact module
-calibrates it for finite bodies). The impact is the rigid-body ODE ``M delta'' = -P(delta)``
-(:func:`reference_impact`). Numpy and scipy only.
+A line contact's approach under line load :math:`P`, measured between the bodies' far faces,
+is :math:`\delta = (2 P / (\pi E^*)) \ln(\Lambda / b(P))` (the form from Johnson's
+half-space compression; :func:`half_space_size` gives :math:`\Lambda` for two half-spaces,
+the impact module calibrates it for finite bodies). The impact is the rigid-body ODE
+:math:`M \ddot\delta = -P(\delta)` (:func:`reference_impact`). Numpy and scipy only.
 """
 
 from __future__ import annotations
@@ -32,25 +32,26 @@ __all__ = [
 
 
 def half_space_size(depth_1: float, depth_2: float, poissons_ratio: float) -> float:
-    """Size term Lambda of two half-spaces of one material, each compressed from its
-    surface to a point at ``depth_i`` below the contact centre (needs ``depth_i >> b``):
-    ``2 sqrt(d1 d2) exp(-nu / (2 (1 - nu)))``, m."""
+    r"""Size term :math:`\Lambda` of two half-spaces of one material, each compressed from
+    its surface to a point at depth :math:`d_i` below the contact centre (needs
+    :math:`d_i \gg b`): :math:`2 \sqrt{d_1 d_2} \exp(-\nu / (2 (1 - \nu)))`, m."""
     nu = poissons_ratio
     return 2.0 * math.sqrt(depth_1 * depth_2) * math.exp(-nu / (2.0 * (1.0 - nu)))
 
 
 @dataclass(frozen=True)
 class LineContactLaw:
-    """Plane-strain Hertz approach ``delta = (2 P / (pi E*)) ln(size / b(P))``.
+    r"""Plane-strain Hertz approach
+    :math:`\delta = (2 P / (\pi E^*)) \ln(\mathrm{size} / b(P))`.
 
     Attributes
     ----------
     e_star : float
-        Contact modulus E*, Pa.
+        Contact modulus :math:`E^*`, Pa.
     radius : float
-        Effective radius R, m.
+        Effective radius :math:`R`, m.
     size : float
-        Size term Lambda, m (where the approach is measured; see the module notes).
+        Size term :math:`\Lambda`, m (where the approach is measured; see the module notes).
     """
 
     e_star: float
@@ -58,21 +59,22 @@ class LineContactLaw:
     size: float
 
     def half_width(self, load: float | np.ndarray) -> float | np.ndarray:
-        """Hertz half-width b of line load ``load`` (N/m), m."""
+        """Hertz half-width :math:`b` of line load ``load`` (N/m), m."""
         return hertz_half_width(load, 1.0, self.radius, self.e_star)
 
     def approach(self, load: float | np.ndarray) -> float | np.ndarray:
-        """Approach delta under line load ``load`` (N/m), m."""
+        r"""Approach :math:`\delta` under line load ``load`` (N/m), m."""
         p = np.maximum(np.asarray(load, dtype=float), 0.0)
         b = np.maximum(self.half_width(p), 1e-300)
         return np.where(p > 0, 2.0 * p / (math.pi * self.e_star) * np.log(self.size / b), 0.0)
 
     def force(self, approach: float | np.ndarray) -> float | np.ndarray:
-        """Line load (N/m) at ``approach`` (m): the inverse of :meth:`approach`.
+        r"""Line load (N/m) at ``approach`` (m): the inverse of :meth:`approach`.
 
-        With ``q = pi E* Lambda^2 / (4 R)`` the law reads ``delta = (P / (pi E*))
-        ln(q / P)``, so ``P = q exp(W_-1(-pi E* delta / q))`` (Lambert W, lower branch:
-        the loads below ``q / e``, where the approach grows with the load).
+        With :math:`q = \pi E^* \Lambda^2 / (4 R)` the law reads
+        :math:`\delta = (P / (\pi E^*)) \ln(q / P)`, so
+        :math:`P = q \exp(W_{-1}(-\pi E^* \delta / q))` (Lambert W, lower branch: the loads
+        below :math:`q / e`, where the approach grows with the load).
         """
         d = np.maximum(np.asarray(approach, dtype=float), 0.0)
         q = math.pi * self.e_star * self.size**2 / (4.0 * self.radius)
@@ -83,7 +85,7 @@ class LineContactLaw:
         return np.where(d > 0, q * np.exp(w), 0.0)
 
     def energy(self, load: float) -> float:
-        """Work ``int P d(delta)`` from zero up to line load ``load``, J/m."""
+        r"""Work :math:`\int P \, d\delta` from zero up to line load ``load``, J/m."""
 
         def stiffness_inverse(p: float) -> float:  # d(delta)/dP
             return (2.0 * math.log(self.size / self.half_width(p)) - 1.0) / (math.pi * self.e_star)
@@ -92,7 +94,7 @@ class LineContactLaw:
 
 
 def hertz_nodal_forces(x: np.ndarray, load: float, b: float, centre: float = 0.0) -> np.ndarray:
-    """Consistent nodal forces (N/m) of the Hertz pressure ``p0 sqrt(1 - s^2 / b^2)``
+    r"""Consistent nodal forces (N/m) of the Hertz pressure :math:`p_0 \sqrt{1 - s^2 / b^2}`
     of resultant ``load`` about ``centre``, on nodes at increasing positions ``x``
     joined by linear segments."""
     x = np.asarray(x, dtype=float)
@@ -109,7 +111,8 @@ def hertz_nodal_forces(x: np.ndarray, load: float, b: float, centre: float = 0.0
 
 
 def peak_load(law: LineContactLaw, mass: float, v0: float) -> float:
-    """Line load (N/m) at which the contact has stored the kinetic energy ``M v0^2 / 2``."""
+    """Line load (N/m) at which the contact has stored the kinetic energy
+    :math:`M v_0^2 / 2`."""
     target = 0.5 * mass * v0**2
     hi = 1.0
     while law.energy(hi) < target:
@@ -138,7 +141,8 @@ class ReferenceImpact:
 def reference_impact(
     law: LineContactLaw, mass: float, v0: float, threshold: float, n_out: int = 2001
 ) -> ReferenceImpact:
-    """Integrate ``M delta'' = -P(delta)`` from ``delta = 0``, ``delta' = v0`` to separation.
+    r"""Integrate :math:`M \ddot\delta = -P(\delta)` from :math:`\delta = 0`,
+    :math:`\dot\delta = v_0` to separation.
 
     Parameters
     ----------

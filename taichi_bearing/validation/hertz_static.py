@@ -1,9 +1,9 @@
-"""A cylinder pressed onto a flat block, against Hertz: the contact patch's half-width and
+r"""A cylinder pressed onto a flat block, against Hertz: the contact patch's half-width and
 peak pressure as the mesh is refined at a fixed penalty.
 
-A cylinder cap of radius R = 10 mm on a 4 x 4 mm block in plane strain (thickness 1 m),
-both steel, under the line load that gives a Hertz half-width of 0.2 mm
-(``P = pi E* b^2 / (4 R)``; Johnson, Contact Mechanics, 1985, eqs. 4.43-4.45), relaxed to
+A cylinder cap of radius :math:`R` = 10 mm on a 4 x 4 mm block in plane strain (thickness
+1 m), both steel, under the line load that gives a Hertz half-width of 0.2 mm
+(:math:`P = \pi E^* b^2 / (4 R)`; Johnson, Contact Mechanics, 1985, eqs. 4.43-4.45), relaxed to
 rest; the pressure is read from the block's top nodes, the shape functions' spread taken
 off (:func:`taichi_bearing.analytic.contact_pressure.contact_spread`).
 

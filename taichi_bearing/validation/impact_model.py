@@ -1,34 +1,37 @@
-"""Impact of an elastic cylinder on an elastic block in plane strain: the explicit model
+r"""Impact of an elastic cylinder on an elastic block in plane strain: the explicit model
 with penalty contact against the quasi-static Hertz impact solution.
 
 The 2-D counterpart of a sphere-on-plate impact check. A cylinder cap
-of radius R, under a rigid layer that carries most of the moving mass, is thrown at
-``v0`` onto a block held at its bottom face. Friction and contact damping are off.
+of radius :math:`R`, under a rigid layer that carries most of the moving mass, is thrown at
+:math:`v_0` onto a block held at its bottom face. Friction and contact damping are off.
 
 Reference (what is analytic and what is calibrated)
 ---------------------------------------------------
 A line contact has no force-approach law of its own: the approach of two bodies under a
-line load P (per unit length) depends on where it is measured. Here it is the motion of
+line load :math:`P` (per unit length) depends on where it is measured. Here it is the motion of
 the rigid layer towards the block's held bottom face, i.e. the sum of each body's
 compression from its contact point to its far face. For two bodies of one material,
-contact modulus ``E* = E / (2 (1 - nu^2))`` and Hertz half-width
-``b = sqrt(4 P R / (pi E*))``::
+contact modulus :math:`E^* = E / (2 (1 - \nu^2))` and Hertz half-width
+:math:`b = \sqrt{4 P R / (\pi E^*)}`:
 
-    delta(P) = (2 P / (pi E*)) ln(Lambda / b(P))
+.. math::
+
+    \delta(P) = \frac{2 P}{\pi E^*} \ln \frac{\Lambda}{b(P)}
 
 - Analytic: the form. A body compressed by the Hertz (elliptic) pressure moves, relative
-  to a point far below the contact, by ``(P (1 - nu^2) / (pi E)) (2 ln(2 d / b) + c)``
-  with the ``ln b`` coming from the pressure's own near field (Johnson, Contact
-  Mechanics, 1985, sections 2.2 and 5.6: Flamant's line-load solution integrated over the
-  Hertz pressure). For a half-space measured to depth d on the axis,
-  ``c = -nu / (1 - nu)``; two such bodies give :func:`half_space_size`.
-- Calibrated: the size term Lambda. The bodies are finite (a block clamped at its bottom,
+  to a point far below the contact, by
+  :math:`(P (1 - \nu^2) / (\pi E)) (2 \ln(2 d / b) + c)` with the :math:`\ln b` coming
+  from the pressure's own near field (Johnson, Contact Mechanics, 1985, sections 2.2 and
+  5.6: Flamant's line-load solution integrated over the Hertz pressure). For a half-space
+  measured to depth :math:`d` on the axis, :math:`c = -\nu / (1 - \nu)`; two such bodies
+  give :func:`half_space_size`.
+- Calibrated: the size term :math:`\Lambda`. The bodies are finite (a block clamped at its bottom,
   a cap clamped to a rigid layer, both of finite width), so the constant is theirs:
   :func:`calibrate_size` solves each body's linear static problem under the Hertz
   pressure (prescribed, no contact algorithm) with the solver's own element stiffness on
   a fine mesh, and reads the centre compressions.
 
-The impact is then the rigid-body ODE ``M delta'' = -P(delta)`` (:func:`reference_impact`),
+The impact is then the rigid-body ODE :math:`M \ddot\delta = -P(\delta)` (:func:`reference_impact`),
 valid while the contact lasts much longer than the bodies' lowest mode periods
 (:func:`lowest_period`): the ratio is reported.
 
@@ -136,7 +139,7 @@ class ImpactBodies:
 
     @property
     def e_star(self) -> float:
-        """Contact modulus ``E / (2 (1 - nu^2))`` of two bodies of this material, Pa."""
+        r"""Contact modulus :math:`E / (2 (1 - \nu^2))` of two bodies of this material, Pa."""
         m = self.material
         return m.youngs_modulus / (2.0 * (1.0 - m.poissons_ratio**2))
 
@@ -240,7 +243,7 @@ def _centre_compression(
 
 
 def calibrate_size(bodies: ImpactBodies, load: float, fine: float) -> tuple[float, float, float]:
-    """Size term of the bodies' approach law from linear static solves.
+    r"""Size term of the bodies' approach law from linear static solves.
 
     Each body, held at its far face (the block's bottom, the cap's top where the rigid
     layer holds it), takes the Hertz pressure of ``load`` (N/m) on its contact face,
@@ -250,8 +253,8 @@ def calibrate_size(bodies: ImpactBodies, load: float, fine: float) -> tuple[floa
     Returns
     -------
     size, compression_cap, compression_block : float
-        Lambda with ``delta = (2 P / (pi E*)) ln(Lambda / b)``, and the two parts of
-        delta, m.
+        :math:`\Lambda` with :math:`\delta = (2 P / (\pi E^*)) \ln(\Lambda / b)`, and the
+        two parts of :math:`\delta`, m.
     """
     b = float(hertz_half_width(load, 1.0, bodies.radius, bodies.e_star))
     mat = bodies.material

@@ -15,10 +15,10 @@ A law owns four things, and the node-to-segment contact
 - its bound on the stable time step (:meth:`ContactLaw.contact_bound`,
   :meth:`ContactLaw.node_bound`; None for a law that follows the step).
 
-The laws here are linear in the penetration: the force is ``k`` times the penetration
+The laws here are linear in the penetration: the force is :math:`k` times the penetration
 (for a smoothed contact, the mean overlap of the node's tributary patch), so a patch's
-stored energy is ``k`` times the mean of ``p^2 / 2`` over it. Friction (an elastic stick
-spring of the same ``k``, return-mapped onto Coulomb's cone) is
+stored energy is :math:`k` times the mean of :math:`p^2 / 2` over it. Friction (an elastic stick
+spring of the same :math:`k`, return-mapped onto Coulomb's cone) is
 :func:`~taichi_bearing.solver.laws.friction.friction_force`, common to every law.
 """
 
@@ -47,14 +47,14 @@ __all__ = [
 
 @ti.data_oriented
 class ContactLaw:
-    """Base of the contact laws: a linear penalty whose stiffness each law sets.
+    r"""Base of the contact laws: a linear penalty whose stiffness each law sets.
 
     Parameters
     ----------
     scale : float
-        The law's scale factor (LS-DYNA's ``f_s`` for the penalty laws).
+        The law's scale factor (LS-DYNA's :math:`f_s` for the penalty laws).
     damping_ratio : float
-        Viscous damping ``c = 2 zeta sqrt(k m_eff)`` as a fraction of critical.
+        Viscous damping :math:`c = 2 \zeta \sqrt{k m_\mathrm{eff}}` as a fraction of critical.
 
     Notes
     -----
@@ -127,7 +127,8 @@ class ContactLaw:
 
     @ti.func
     def normal(self, k, pen, m_eff, vn, dt):
-        """Normal force ``max(0, k pen - c vn)``, ``c = 2 zeta sqrt(k m_eff)``; ``vn`` is
+        r"""Normal force :math:`\max(0, k \, \mathrm{pen} - c \, \mathrm{vn})`,
+        :math:`c = 2 \zeta \sqrt{k m_\mathrm{eff}}`; ``vn`` is
         the separating normal velocity. Returns (force, damping energy dissipated in
         ``dt``)."""
         fn_el = k * pen
@@ -141,18 +142,19 @@ class ContactLaw:
 
     @ti.func
     def patch_energy(self, k, half_square_mean):
-        """Stored energy of a patch contact whose overlap ``p`` has mean ``p^2 / 2`` of
+        """Stored energy of a patch contact whose overlap :math:`p` has mean :math:`p^2 / 2` of
         ``half_square_mean`` over the patch (times the patch's weight in the force)."""
         return k * half_square_mean
 
 
 @ti.data_oriented
 class SegmentPenalty(ContactLaw):
-    """LS-DYNA's segment-based penalty: ``k = f_s K A^2 / V`` of the master segment, with
-    ``K = lambda + 2 mu / 3`` the bulk modulus of the element the segment bounds,
-    ``A = L t`` the segment's area (length x thickness) and ``V = area t`` the element's
-    volume, i.e. ``k = f_s K L^2 t / area``. Its pressure per unit overlap is therefore
-    set by the mesh (about ``2 f_s K / h`` with two passes, ``h`` the element size)."""
+    r"""LS-DYNA's segment-based penalty: :math:`k = f_s K A^2 / V` of the master segment,
+    with :math:`K = \lambda + 2 \mu / 3` the bulk modulus of the element the segment bounds,
+    :math:`A = L t` the segment's area (length x thickness) and
+    :math:`V = \mathrm{area} \, t` the element's volume, i.e.
+    :math:`k = f_s K L^2 t / \mathrm{area}`. Its pressure per unit overlap is therefore set
+    by the mesh (about :math:`2 f_s K / h` with two passes, :math:`h` the element size)."""
 
     name = "segment"
 
@@ -170,19 +172,19 @@ class SegmentPenalty(ContactLaw):
 
 @ti.data_oriented
 class PressurePenalty(ContactLaw):
-    """A pressure per unit overlap ``p_s`` (Pa/m), the same on every mesh: a query node
-    stands for its tributary length ``l`` of surface, so its stiffness is
-    ``k = p_s l t`` (``t`` the thickness), and a smoothed contact's force
-    ``k * mean overlap`` is ``p_s t`` times the overlap integrated over the node's patch.
-    The two passes of a two-pass pair each carry half (each sees the same overlap), so the
-    pair presses with ``p_s`` times the overlap. Refining the mesh refines the geometry
-    only; the contact's compliance stays ``1 / p_s``.
+    r"""A pressure per unit overlap :math:`p_s` (Pa/m), the same on every mesh: a query node
+    stands for its tributary length :math:`l` of surface, so its stiffness is
+    :math:`k = p_s l t` (:math:`t` the thickness), and a smoothed contact's force
+    (:math:`k` times the mean overlap) is :math:`p_s t` times the overlap integrated over
+    the node's patch. The two passes of a two-pass pair each carry half (each sees the same
+    overlap), so the pair presses with :math:`p_s` times the overlap. Refining the mesh
+    refines the geometry only; the contact's compliance stays :math:`1 / p_s`.
 
     Parameters
     ----------
     pressure : float
-        ``p_s``, Pa/m; ``alpha E* / b_ref`` makes the penalty's overlap under a Hertz
-        pressure about ``1 / alpha`` of the Hertz approach
+        :math:`p_s`, Pa/m; :math:`\alpha E^* / b_\mathrm{ref}` makes the penalty's overlap
+        under a Hertz pressure about :math:`1 / \alpha` of the Hertz approach
         (:func:`taichi_bearing.analytic.penalty.pressure_penalty`).
     damping_ratio : float
         As for :class:`ContactLaw`.
@@ -208,10 +210,10 @@ class PressurePenalty(ContactLaw):
 
 @ti.data_oriented
 class SoftPenalty(ContactLaw):
-    """LS-DYNA's SOFT=1 idea: ``k = f_s m_eff / dt^2`` with ``m_eff = m_s m_m / (m_s +
-    m_m)`` (the slave node's mass and the master's interpolated at the contact point; a
-    node's own mass against the rigid cage) and the model's current step. It follows the
-    step, so it never limits it."""
+    r"""LS-DYNA's SOFT=1 idea: :math:`k = f_s m_\mathrm{eff} / \Delta t^2` with
+    :math:`m_\mathrm{eff} = m_s m_m / (m_s + m_m)` (the slave node's mass and the master's
+    interpolated at the contact point; a node's own mass against the rigid cage) and the
+    model's current step. It follows the step, so it never limits it."""
 
     name = "soft"
     bounded = False
@@ -237,9 +239,10 @@ def segment_stiffness(
     thickness: float,
     scale: float,
 ) -> np.ndarray:
-    """LS-DYNA segment penalty ``f_s K A^2 / V`` (N/m) of each segment.
+    r"""LS-DYNA segment penalty :math:`f_s K A^2 / V` (N/m) of each segment.
 
-    ``K = lambda + 2 mu / 3`` of the owning element, ``A = L t``, ``V = area t``.
+    :math:`K = \lambda + 2 \mu / 3` of the owning element, :math:`A = L t`,
+    :math:`V = \mathrm{area} \, t`.
     """
     elem = segment_elements(mesh, segments)
     length = np.linalg.norm(mesh.nodes[segments[:, 1]] - mesh.nodes[segments[:, 0]], axis=1)
@@ -248,11 +251,12 @@ def segment_stiffness(
 
 
 def window_share(nodes: np.ndarray, surface_segments: np.ndarray, length: float) -> float:
-    """Largest ``sum_j max(0, 1 - s_j / length)`` over the nodes of a surface (chains of
-    segments), ``s_j`` the arc distance from one of its nodes to node j (itself included):
-    the most the shape functions ``N`` of a segment node can gather from that surface's
-    nodes laid along its two segments of at most ``length`` each. Uniform spacing ``h``
-    gives ``1 + 2 sum_j (1 - j h / length)``; a few short segments (a spall's walls)
+    r"""Largest :math:`\sum_j \max(0, 1 - s_j / \mathrm{length})` over the nodes of a surface
+    (chains of segments), :math:`s_j` the arc distance from one of its nodes to node
+    :math:`j` (itself included): the most the shape functions :math:`N` of a segment node
+    can gather from that surface's nodes laid along its two segments of at most ``length``
+    each. Uniform spacing :math:`h` gives :math:`1 + 2 \sum_j (1 - j h / \mathrm{length})`;
+    a few short segments (a spall's walls)
     raise it only where they are. The sum of hats peaks at a node, so the nodes are the
     only candidates."""
     X = np.asarray(nodes, dtype=float)
@@ -284,19 +288,21 @@ def penalty_bounds(
     nodal_mass: np.ndarray,
     damping_ratio: float,
 ) -> tuple[np.ndarray, np.ndarray]:
-    """Per-node bound on the springs and dashpots penalty contact can add (for the
+    r"""Per-node bound on the springs and dashpots penalty contact can add (for the
     global time step, :meth:`~taichi_bearing.solver.model.Model.add_stiffness_bound`).
 
-    A query node in contact holds one spring ``k`` of the segment it touches (normal,
-    and the same stiffness tangentially while it sticks) to the point ``N1 x1 + N2 x2``
-    of that segment, one contact at a time over all its passes. Since
-    ``(x_s - N1 x1 - N2 x2)^2 <= 2 (x_s^2 + N1 x1^2 + N2 x2^2)``, the spring is bounded by
-    ``2 k`` on the query node and ``2 k N_i`` on each segment node, where the ``N_i`` of
+    A query node in contact holds one spring :math:`k` of the segment it touches (normal,
+    and the same stiffness tangentially while it sticks) to the point
+    :math:`N_1 x_1 + N_2 x_2` of that segment, one contact at a time over all its passes.
+    Since :math:`(x_s - N_1 x_1 - N_2 x_2)^2 \le 2 (x_s^2 + N_1 x_1^2 + N_2 x_2^2)`, the
+    spring is bounded by :math:`2 k` on the query node and :math:`2 k N_i` on each segment
+    node, where the :math:`N_i` of
     all the query nodes on a segment node's two segments sum to at most
     :func:`window_share` of the querying surface (query nodes laid along the segments).
     One body touches a surface at a time, so each role takes its largest pass. A dashpot
-    ``2 zeta sqrt(k m_eff)``, ``m_eff = m_q m_s / (m_q + m_s)`` of the query node and the
-    segment point, is bounded the same way with the largest ``m_eff`` the pass allows
+    :math:`2 \zeta \sqrt{k m_\mathrm{eff}}`, :math:`m_\mathrm{eff} = m_q m_s / (m_q + m_s)`
+    of the query node and the segment point, is bounded the same way with the largest
+    :math:`m_\mathrm{eff}` the pass allows
     (heaviest node on the other side, heaviest of the node and its neighbours on the
     segment side).
 

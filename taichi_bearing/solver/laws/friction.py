@@ -13,8 +13,9 @@ __all__ = ["friction_force"]
 
 @ti.func
 def friction_force(ft0, e_t0, k, vt, fn, dt, mu_s, mu_d, decay):
-    """Elastic stick ``ft0 - k dt vt`` return-mapped onto ``|ft| <= mu fn``,
-    ``mu = mu_d + (mu_s - mu_d) exp(-decay |vt|)``.
+    r"""Elastic stick :math:`f_{t0} - k \, \Delta t \, v_t` return-mapped onto
+    :math:`|f_t| \le \mu f_n`,
+    :math:`\mu = \mu_d + (\mu_s - \mu_d) \exp(-\mathrm{decay} \, |v_t|)`.
 
     ``ft0`` and ``e_t0`` are the spring force and energy kept from the last step (zero
     after a reset). Returns (ft, spring energy, energy dissipated in ``dt``): the

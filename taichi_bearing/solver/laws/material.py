@@ -55,9 +55,9 @@ class ElementLaw:
 
 @ti.data_oriented
 class StVenantKirchhoff(ElementLaw):
-    """St Venant-Kirchhoff: ``S = lambda tr(E) I + 2 mu E``, energy
-    ``lambda tr(E)^2 / 2 + mu E : E``: Hooke's law in the Green strain, exact for large
-    rotations with small strains (a rolling bearing's)."""
+    r"""St Venant-Kirchhoff: :math:`S = \lambda \operatorname{tr}(E) I + 2 \mu E`, energy
+    :math:`\lambda \operatorname{tr}(E)^2 / 2 + \mu E : E`: Hooke's law in the Green strain,
+    exact for large rotations with small strains (a rolling bearing's)."""
 
     name = "st_venant_kirchhoff"
 
