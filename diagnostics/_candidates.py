@@ -97,11 +97,7 @@ def _explained_by(score: FamilyScore, other: FamilyScore, shaft_hz: float) -> np
     """
     if score.comb == "FTF" and other.comb in _RACE_COMBS:
         return np.ones(score.z.size, dtype=bool)
-    cage = other.comb == "FTF"
-    reach = other.z.size if cage else 3 * other.z.size
-    offsets = np.zeros(1) if cage else shaft_hz * np.arange(-2, 3)
-    harmonics = other.found_hz * np.arange(1, reach + 1)
-    lines = (harmonics[:, None] + offsets[None, :]).ravel()
+    reach, offsets, lines = _comb_lines(other, shaft_hz)
     tol = 2.0 * max(score.resolution_hz, other.resolution_hz)
     near = np.abs(score.lines_hz[:, None] - lines[None, :]) <= tol
     if other.band == score.band:
@@ -118,6 +114,28 @@ def _explained_by(score: FamilyScore, other: FamilyScore, shaft_hz: float) -> np
         margin = _CARRIER_SIGMAS * np.hypot(mine_err[:, None], carrier_err[None, :])
         near &= ~(side & (mine[:, None] > carrier[None, :] + margin))
     return near.any(axis=1)
+
+
+def _comb_lines(other: FamilyScore, shaft_hz: float) -> tuple[int, np.ndarray, np.ndarray]:
+    """The lines a detected comb explains: its harmonics up to ``reach`` (three times
+    those it tested for a race or spin comb, those tested for the cage-rate series), each
+    with the ``offsets`` about it (the first two shaft-rate sidebands; none for the cage
+    rate), flattened harmonic by harmonic."""
+    cage = other.comb == "FTF"
+    reach = other.z.size if cage else 3 * other.z.size
+    offsets = np.zeros(1) if cage else shaft_hz * np.arange(-2, 3)
+    harmonics = other.found_hz * np.arange(1, reach + 1)
+    return reach, offsets, (harmonics[:, None] + offsets[None, :]).ravel()
+
+
+def unique_evidence(score: FamilyScore, explained: list[np.ndarray]) -> float:
+    """Evidence of ``score`` from its supporting lines that none of the ``explained`` masks
+    (one per other detected family, :func:`_explained_by`) covers: a shared line is
+    evidence for neither."""
+    keep = _supporting(score)
+    for mask in explained:
+        keep = keep & ~mask
+    return float(np.asarray(score.z)[keep].sum())
 
 
 def _strength(score: FamilyScore) -> tuple[np.ndarray, np.ndarray]:
@@ -139,10 +157,7 @@ def _sidebands_explained_by(score: FamilyScore, other: FamilyScore, shaft_hz: fl
     rule: a sideband's depth is not measured)."""
     if score.sideband_z.size == 0:
         return np.zeros((2, score.z.size), dtype=bool)
-    cage = other.comb == "FTF"
-    reach = other.z.size if cage else 3 * other.z.size
-    offsets = np.zeros(1) if cage else shaft_hz * np.arange(-2, 3)
-    lines = ((other.found_hz * np.arange(1, reach + 1))[:, None] + offsets[None, :]).ravel()
+    _, _, lines = _comb_lines(other, shaft_hz)
     sides = score.lines_hz[None, :] + np.array([-score.sideband_hz, score.sideband_hz])[:, None]
     tol = 2.0 * max(score.resolution_hz, other.resolution_hz)
     return np.min(np.abs(sides[..., None] - lines[None, None, :]), axis=-1) <= tol
@@ -164,9 +179,6 @@ def _candidate(
     family explains (``explained``: family -> mask) and whether its detection holds on the
     rest."""
     support = _supporting(score)
-    any_explained = np.zeros(score.z.size, dtype=bool)
-    for mask in explained.values():
-        any_explained |= mask
     n_sb_side = score.sideband_z.shape[-1] if score.sideband_z.size else 0
     sidebands: tuple[int, ...] = ()
     if n_sb_side:
@@ -178,7 +190,7 @@ def _candidate(
         band=score.band,
         p_value=float(min(1.0, min(score.pair_p, score.sideband_pair_p) * tests)),
         evidence=float(score.evidence),
-        unique_evidence=float(np.asarray(score.z)[support & ~any_explained].sum()),
+        unique_evidence=unique_evidence(score, list(explained.values())),
         harmonics=tuple(int(k) + 1 for k in np.flatnonzero(support)),
         sidebands=sidebands,
         detected=detected,

@@ -14,6 +14,7 @@ from diagnostics._candidates import (
     _candidate,
     _explained_by,
     _sidebands_explained_by,
+    unique_evidence,
 )
 from diagnostics._comb import BandScore, FamilyScore, _Setting, series_strength
 from diagnostics._other_source import _holds_apart, _holds_without
@@ -37,10 +38,7 @@ def _unique_evidence(score: FamilyScore, others: list[FamilyScore], shaft_hz: fl
     2 x BSF, and an inner-race fault's lines would otherwise all be the ball comb's
     sidebands. (Strength: the modulation depth, :func:`diagnostics._candidates._explained_by`.)
     """
-    keep = score.z > score.threshold
-    for other in others:
-        keep &= ~_explained_by(score, other, shaft_hz)
-    return float(score.z[keep].sum())
+    return unique_evidence(score, [_explained_by(score, o, shaft_hz) for o in others])
 
 
 @dataclass(frozen=True)
