@@ -55,8 +55,9 @@ exclude_patterns = [
     # in _generated/, which the guide's page includes
     "case_reference.md",
     "_generated",
-    # a table the impact README links as a file (no title of its own)
+    # tables the impact READMEs link as files or copy (no title of their own)
     "results/impact/table.md",
+    "results/cylinder_impact/*/table.md",
     # the gallery's downloads and notebooks, and the API pages' templates, are not pages
     "auto_examples/*.ipynb",
     "auto_examples/*.py",

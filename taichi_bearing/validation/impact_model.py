@@ -90,6 +90,7 @@ __all__ = [
 ]
 
 STEEL = Material(210e9, 0.3, 7850.0)
+TARGETS = ("block", "cap")
 
 
 # --------------------------------------------------------------------------- bodies
@@ -124,6 +125,10 @@ class ImpactBodies:
         Growth of the elements away from the fine zone.
     material : Material
         Both bodies.
+    target : {"block", "cap"}
+        What the roller strikes: the block, held at its bottom face, or a second cap like
+        the roller's, turned over and held at its flat face (two cylinders in central
+        impact, each under a rigid layer: the effective radius is then R / 2).
     """
 
     radius: float = 10e-3
@@ -136,6 +141,21 @@ class ImpactBodies:
     fine_half_width: float = 0.6e-3
     growth: float = 1.3
     material: Material = field(default=STEEL)
+    target: str = "block"
+
+    def __post_init__(self) -> None:
+        if self.target not in TARGETS:
+            raise ValueError(f"target must be one of {TARGETS}, got {self.target!r}")
+
+    @property
+    def effective_radius(self) -> float:
+        """R of the pair: the roller's on the flat block, half of it on a like cap, m."""
+        return self.radius if self.target == "block" else 0.5 * self.radius
+
+    @property
+    def target_height(self) -> float:
+        """Depth of the struck body below the contact, m."""
+        return self.block_height if self.target == "block" else self.cap_height
 
     @property
     def e_star(self) -> float:
@@ -146,7 +166,7 @@ class ImpactBodies:
     @property
     def peak_load(self) -> float:
         """Line load whose Hertz half-width is ``peak_half_width``, N/m."""
-        return math.pi * self.e_star * self.peak_half_width**2 / (4.0 * self.radius)
+        return math.pi * self.e_star * self.peak_half_width**2 / (4.0 * self.effective_radius)
 
     def fine_zone(self, fine: float) -> float:
         """Half width of the fine zone for surface size ``fine``: at least two elements."""
@@ -167,6 +187,23 @@ class ImpactBodies:
             fine,
             self.fine_zone(fine),
             self.growth,
+        )
+
+    def struck(self, fine: float) -> Mesh:
+        """The struck body, contact face up with its centre at the origin: surface and
+        node set ``top`` (the contact face), node set ``bottom`` (held). The block, or
+        the cap turned over (a half turn keeps elements counter-clockwise and surfaces
+        with the body on their left)."""
+        if self.target == "block":
+            return self.block(fine)
+        cap = self.cap(fine)
+        return Mesh(
+            nodes=-np.asarray(cap.nodes),
+            elements=np.asarray(cap.elements),
+            element_part=np.asarray(cap.element_part),
+            part_names=list(cap.part_names),
+            node_sets={"top": cap.node_sets["bottom"], "bottom": cap.node_sets["top"]},
+            surfaces={"top": cap.surfaces["bottom"]},
         )
 
 
@@ -195,16 +232,18 @@ def with_rigid_layer(cap: Mesh, height: float) -> Mesh:
 
 
 def impact_mesh(bodies: ImpactBodies, fine: float, offset: float = 0.5) -> Mesh:
-    """Block and roller (cap with its rigid layer), the roller's lowest point touching
-    the block's top at ``x = offset * fine``: mid-segment by default, so the nodes of the
-    two surfaces do not face each other (as between a roller and a raceway).
+    """The struck body (:meth:`ImpactBodies.struck`) and the roller (cap with its rigid
+    layer), the roller's lowest point touching the struck body's top at
+    ``x = offset * fine``: mid-segment by default, so the nodes of the two surfaces do not
+    face each other (as between a roller and a raceway).
 
-    Parts ``block``, ``roller.cap``, ``roller.mass``; surfaces ``block.top`` and
-    ``roller.bottom``; node sets ``block.bottom`` (held) and ``roller.rigid``.
+    Parts ``block`` (the struck body, block or cap), ``roller.cap``, ``roller.mass``;
+    surfaces ``block.top`` and ``roller.bottom``; node sets ``block.bottom`` (held) and
+    ``roller.rigid``.
     """
     roller = with_rigid_layer(bodies.cap(fine), bodies.layer_height)
     roller.nodes = roller.nodes + np.array([offset * fine, 0.0])
-    return merge_meshes({"block": bodies.block(fine), "roller": roller})
+    return merge_meshes({"block": bodies.struck(fine), "roller": roller})
 
 
 def impact_materials(bodies: ImpactBodies, mesh: Mesh) -> dict[str, Material]:
@@ -245,8 +284,8 @@ def _centre_compression(
 def calibrate_size(bodies: ImpactBodies, load: float, fine: float) -> tuple[float, float, float]:
     r"""Size term of the bodies' approach law from linear static solves.
 
-    Each body, held at its far face (the block's bottom, the cap's top where the rigid
-    layer holds it), takes the Hertz pressure of ``load`` (N/m) on its contact face,
+    Each body, held at its far face (the struck body's bottom, the roller cap's top where
+    the rigid layer holds it), takes the Hertz pressure of ``load`` (N/m) on its contact face,
     with the solver's element stiffness (:func:`assemble_stiffness`) on a mesh of
     surface size ``fine``. The sum of the two centre compressions is the approach.
 
@@ -256,9 +295,9 @@ def calibrate_size(bodies: ImpactBodies, load: float, fine: float) -> tuple[floa
         :math:`\Lambda` with :math:`\delta = (2 P / (\pi E^*)) \ln(\Lambda / b)`, and the
         two parts of :math:`\delta`, m.
     """
-    b = float(hertz_half_width(load, 1.0, bodies.radius, bodies.e_star))
+    b = float(hertz_half_width(load, 1.0, bodies.effective_radius, bodies.e_star))
     mat = bodies.material
-    w_block = _centre_compression(bodies.block(fine), mat, "top", "bottom", load, b, -1.0)
+    w_block = _centre_compression(bodies.struck(fine), mat, "top", "bottom", load, b, -1.0)
     w_cap = _centre_compression(bodies.cap(fine), mat, "bottom", "top", load, b, 1.0)
     size = b * math.exp(math.pi * bodies.e_star * (w_cap + w_block) / (2.0 * load))
     return size, w_cap, w_block
@@ -293,6 +332,7 @@ class FEImpact:
 
     size: float
     penalty_scale: float
+    penalty_pressure: float  # the pressure law's p_s, Pa/m; 0 for the segment law
     time: np.ndarray
     force: np.ndarray
     approach: np.ndarray
@@ -316,12 +356,14 @@ def run_impact(
     threshold: float,
     sample_interval: float,
     damping_ratio: float = 0.0,
+    penalty_pressure: float = 0.0,
 ) -> FEImpact:
-    """Throw the roller at ``v0`` onto the block and record the contact force.
+    """Throw the roller at ``v0`` onto the struck body and record the contact force.
 
     The model is built as the bearing's: the global (assembled) critical time step at
-    0.9, segment penalty of ``penalty_scale``, two passes, arc smoothing; no friction,
-    contact damping ``damping_ratio``. The force is the pair resultant's mean over each
+    0.9, segment penalty of ``penalty_scale`` (or, where ``penalty_pressure`` (Pa/m) is
+    positive, the pressure law of that :math:`p_s`), two passes, arc smoothing; no
+    friction, contact damping ``damping_ratio``. The force is the pair resultant's mean over each
     ``sample_interval`` (as the bearing's recorders take it). The run stops at ``t_end``
     or once the roller has left the block for good (no force for a tenth of the time so
     far). Taichi must be started first (:func:`taichi_bearing.solver.backend.init_taichi`).
@@ -340,7 +382,14 @@ def run_impact(
         time_step="global",
         dt_factor=0.9,
     )
-    params = ContactParameters(penalty_scale=penalty_scale, damping_ratio=damping_ratio)
+    if penalty_pressure > 0:
+        params = ContactParameters(
+            penalty_method="pressure",
+            penalty_pressure=penalty_pressure,
+            damping_ratio=damping_ratio,
+        )
+    else:
+        params = ContactParameters(penalty_scale=penalty_scale, damping_ratio=damping_ratio)
     pair = ContactPair("roller_block", "roller.bottom", "block.top", two_pass=True)
     contact = PenaltyContact(model, [pair], params)
     model.add_contributor(contact)
@@ -378,6 +427,7 @@ def run_impact(
     return FEImpact(
         size=fine,
         penalty_scale=penalty_scale,
+        penalty_pressure=penalty_pressure,
         time=t,
         force=f,
         approach=np.asarray(approach),
