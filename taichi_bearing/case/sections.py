@@ -327,6 +327,13 @@ class Preload:
         gt=0.0, lt=1.0, doc="ends when the kinetic energy over its peak falls below this"
     )
     max_steps: int = key(ge=1, doc="gives up after this many steps")
+    mass_scaling: bool = key(
+        default=False,
+        doc="relax with the nodes under contact (and the cage's springs) made heavier, so "
+        "that a stiff contact (the pressure law) does not set the step: the same static "
+        "state in fewer steps, the transient at the real masses; needs run.time_step: "
+        "global and a penalty other than soft",
+    )
 
 
 @dataclass(frozen=True)

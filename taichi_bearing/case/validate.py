@@ -132,6 +132,22 @@ def _check_contact(case: Case, src: str | None) -> None:
             "makes stiffer than the elements, and the run would go unstable",
             src,
         )
+    # The masses lift the step only where the estimate counts the contact's springs, and
+    # the soft penalty's stiffness follows the masses and the step (another static state).
+    if case.preload.mass_scaling and case.run.time_step != "global":
+        raise CaseError(
+            "preload.mass_scaling",
+            "preload.mass_scaling needs run.time_step: global (the "
+            f"{case.run.time_step!r} estimate ignores the contact's springs: nothing to lift)",
+            src,
+        )
+    if case.preload.mass_scaling and case.contact.penalty_method == "soft":
+        raise CaseError(
+            "preload.mass_scaling",
+            "preload.mass_scaling does not go with contact.penalty_method: soft (its "
+            "stiffness follows the masses and the step, so the static state would change)",
+            src,
+        )
 
 
 def _check_geometry(case: Case, src: str | None) -> None:

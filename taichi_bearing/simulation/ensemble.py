@@ -284,7 +284,8 @@ def simulate_ensemble(
                        enabled=False if quiet else None,
                        log_every_s=progress_interval) as bar:  # fmt: skip
         relaxed = relax_members(model, case.preload.ke_ratio_tol, case.preload.max_steps,
-                                progress=bar.update)  # fmt: skip
+                                progress=bar.update,
+                                scale_masses=case.preload.mass_scaling)  # fmt: skip
     times["preload"] = time.perf_counter() - t0
     nn = model.member_nodes
     x, f_nodes = model.positions(), em.contact.nodal_forces()

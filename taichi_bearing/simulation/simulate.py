@@ -180,7 +180,8 @@ def preload(bm: BearingModel, progress: Callable[[int, float], None] | None = No
     from taichi_bearing.solver import relax
 
     case, model = bm.case, bm.model
-    res = relax(model, case.preload.ke_ratio_tol, case.preload.max_steps, progress=progress)
+    res = relax(model, case.preload.ke_ratio_tol, case.preload.max_steps, progress=progress,
+                scale_masses=case.preload.mass_scaling)  # fmt: skip
     forces = np.asarray(bm.contact.current_resultants())[bm.setup.pair_table]
     return preload_entries(case, bm.mesh, res, forces, model.positions(), bm.contact.nodal_forces())
 
@@ -213,7 +214,7 @@ def preload_entries(case: Case, mesh: Mesh, res, forces: np.ndarray, positions: 
         case.bearing,
         case.material,
     )
-    return {
+    entries = {
         "steps": res.steps,
         "ke_ratio": res.ke_ratio,
         "converged": res.converged,
@@ -224,6 +225,17 @@ def preload_entries(case: Case, mesh: Mesh, res, forces: np.ndarray, positions: 
         "plate_drop_m": drop,
         "contact_patch": {"roller": j, "race": "outer", **patch},
     }
+    if case.preload.mass_scaling:
+        entries["mass_scaling"] = {"nodes": res.scaled_nodes, "dt_s": res.dt}
+    return entries
+
+
+def _scaling_note(pre: dict) -> str:
+    """What the preload's mass scaling did, for the preload's line (nothing without it)."""
+    ms = pre.get("mass_scaling")
+    if not ms:
+        return ""
+    return f"; {ms['nodes']} contact nodes heavier, relaxed at dt {ms['dt_s']:.3g} s"
 
 
 def fitted_step(model, case: Case) -> float:
@@ -409,6 +421,7 @@ def simulate(
         say(
             f"preload: {pre['steps']} steps, KE ratio {pre['ke_ratio']:.2g}, "
             f"max roller force {max(pre['outer_force_N']):.4g} N ({times['preload']:.1f} s)"
+            + _scaling_note(pre)
         )
         t0 = time.perf_counter()
         pre.update(check_entries(case, mesh))

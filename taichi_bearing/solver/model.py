@@ -8,7 +8,8 @@ are launched, in :mod:`taichi_bearing.solver.stepping`; the element law, in
 """
 
 # No `from __future__ import annotations`: Taichi reads kernel annotations at definition.
-from collections.abc import Mapping, Sequence
+from collections.abc import Iterator, Mapping, Sequence
+from contextlib import contextmanager
 
 import numpy as np
 import taichi as ti
@@ -439,6 +440,26 @@ class Model(ModelState):
         if not 0 < dt <= self.dt_stable * (1 + 1e-12):
             raise ValueError(f"dt {dt!r} must lie in (0, {self.dt_stable!r}] (stable step)")
         self._dt_set = float(dt)
+
+    @contextmanager
+    def contributor_masses(self) -> Iterator[int]:
+        """Within: the nodes that force contributors' springs act on (penalty contact, the
+        cage) carry the masses of :meth:`CriticalStep.contributor_mass_scale`, and the
+        step is the stable one with them, so the springs no longer shorten it; after, the
+        masses and the step are the model's again. For dynamic relaxation only: a static
+        state does not depend on the masses, the motion towards it does. Yields the number
+        of nodes whose mass was raised. Needs ``time_step="global"`` and contributors whose
+        stiffness does not follow the step (the soft penalty's does)."""
+        mass = self.critical.contributor_mass_scale()
+        saved = (self.critical, self._dt_set)
+        self.critical = self.critical.with_masses(mass)
+        self._dt_set = None
+        self.mass.from_numpy(mass)
+        try:
+            yield int(np.count_nonzero(mass > self.mass_np))
+        finally:
+            self.mass.from_numpy(self.mass_np)
+            self.critical, self._dt_set = saved
 
     @property
     def time(self) -> float:

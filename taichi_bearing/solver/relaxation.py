@@ -9,6 +9,7 @@ loaded mode. Loads act at full value and prescribed rotations are held at angle 
 
 from __future__ import annotations
 
+import contextlib
 import math
 from collections.abc import Callable
 from dataclasses import dataclass
@@ -23,13 +24,16 @@ __all__ = ["RelaxResult", "relax", "relax_members"]
 class RelaxResult:
     """Outcome of :func:`relax`: steps taken, final KE / peak KE, and whether it converged;
     ``error``: why the member stopped (an ensemble's member that went unstable), else
-    empty."""
+    empty; ``dt`` the step it relaxed with (s) and ``scaled_nodes`` the nodes whose mass
+    it raised (``scale_masses``)."""
 
     steps: int
     ke_ratio: float
     converged: bool
     damping: float
     error: str = ""
+    dt: float = 0.0
+    scaled_nodes: int = 0
 
 
 def relax(
@@ -39,6 +43,7 @@ def relax(
     check_every: int = 50,
     min_steps: int = 200,
     progress: Callable[[int, float], None] | None = None,
+    scale_masses: bool = False,
 ) -> RelaxResult:
     """Bring ``model`` to static equilibrium under its loads by damped steps.
 
@@ -58,6 +63,10 @@ def relax(
     progress : callable, optional
         Called after each energy read-out with the steps taken and the KE ratio (e.g.
         :meth:`taichi_bearing.output.progress.RelaxProgress.update`); it only reads them.
+    scale_masses : bool
+        Relax with the nodes that contributors' springs act on made heavier, so that a
+        stiff contact does not set the step (:meth:`Model.contributor_masses`): the same
+        static state in fewer steps. The transient then steps with the real masses.
 
     Returns
     -------
@@ -68,7 +77,9 @@ def relax(
     SimulationError
         If the energies stop being finite or an element inverts.
     """
-    (res,) = relax_members(model, ke_ratio_tol, max_steps, check_every, min_steps, progress)
+    (res,) = relax_members(
+        model, ke_ratio_tol, max_steps, check_every, min_steps, progress, scale_masses
+    )
     if res.error:
         raise SimulationError(res.error)
     return res
@@ -81,6 +92,7 @@ def relax_members(
     check_every: int = 50,
     min_steps: int = 200,
     progress: Callable[[int, float], None] | None = None,
+    scale_masses: bool = False,
 ) -> list[RelaxResult]:
     """:func:`relax` for every member of an ensemble (one model: one member).
 
@@ -90,6 +102,18 @@ def relax_members(
     largest KE ratio of the members still relaxing. Afterwards every member is active,
     at rest, its accounting restarted.
     """
+    masses = model.contributor_masses() if scale_masses else contextlib.nullcontext(0)
+    with masses as scaled:
+        results = _relax(model, ke_ratio_tol, max_steps, check_every, min_steps, progress)
+        for r in results:
+            r.dt, r.scaled_nodes = model.dt, scaled
+    model.set_state(v=model.velocities() * 0.0)
+    model.restart_accounting()
+    return results
+
+
+def _relax(model, ke_ratio_tol, max_steps, check_every, min_steps, progress) -> list[RelaxResult]:
+    """The relaxation's loop (:func:`relax_members`), at the model's masses and step."""
     nm = model.ensemble_size
     model.restart_accounting()
     model.set_state(v=model.velocities() * 0.0)
@@ -132,8 +156,6 @@ def relax_members(
             model.set_members_active([not d for d in done])
     if nm > 1:
         model.set_members_active([True] * nm)
-    model.set_state(v=model.velocities() * 0.0)
-    model.restart_accounting()
     return [
         RelaxResult(
             done[k] or steps, ratio[k], ratio[k] < ke_ratio_tol and not errors[k], c[k], errors[k]

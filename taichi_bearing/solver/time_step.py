@@ -3,7 +3,10 @@ what force contributors' springs and dashpots can add (numpy and scipy, no Taich
 
 from __future__ import annotations
 
+import copy
+
 import numpy as np
+import scipy.sparse as sp
 
 from taichi_bearing.solver.element import (
     assembled_matrix,
@@ -95,3 +98,35 @@ class CriticalStep:
                 undamped = 2.0 / omega
             self._step = (step, step / undamped, self.dt_factor * step)
         return self._step
+
+    def contributor_mass_scale(self) -> np.ndarray:
+        r"""Nodal masses with which the contributors' springs no longer shorten the step:
+        each node a spring :math:`k_n` acts on carries
+        :math:`m_n (1 + k_n / K_{nn})`, :math:`K_{nn}` its larger diagonal stiffness from
+        the elements, so that :math:`(K_{nn} + k_n) / m_n'` is the elements' own
+        :math:`K_{nn} / m_n`. The static state under the loads does not depend on the
+        masses, so a relaxation may step with these (kg, one per node; the masses
+        themselves where no spring acts). Needs the global estimate (the element estimate
+        ignores the springs, so they set no step to lift)."""
+        if self._global is None:
+            raise ValueError("contributor mass scaling needs the global time-step estimate")
+        m = np.asarray(self.mass, dtype=float)
+        k_diag = self._global[0].diagonal().reshape(-1, 2).max(axis=1) * m
+        return m * (1.0 + self.node_stiffness / k_diag)
+
+    def with_masses(self, mass: np.ndarray) -> CriticalStep:
+        r"""The same estimate (elements, contributors' bounds, damping) with nodal masses
+        ``mass`` in place of the model's. A contributor's dashpot bound
+        :math:`2 \zeta \sqrt{k m}` follows its node's mass."""
+        if self._global is None:
+            raise ValueError("a step with other masses needs the global time-step estimate")
+        mass = np.asarray(mass, dtype=float)
+        ratio = mass / np.asarray(self.mass, dtype=float)
+        d = sp.diags(1.0 / np.sqrt(np.repeat(ratio, 2)))
+        k, c = self._global
+        other = copy.copy(self)
+        other.mass = mass
+        other._global = (d @ k @ d, None if c is None else d @ c @ d)
+        other.node_damping = self.node_damping * np.sqrt(ratio)
+        other._step = None
+        return other

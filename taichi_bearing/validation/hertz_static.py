@@ -43,9 +43,12 @@ def pressed_cylinder(
     tol: float = 1e-6,
     time_step: str = "element",
     max_steps: int = 400_000,
+    scale_masses: bool = False,
 ):
     """Relax a cylinder cap onto a block under the line load P, elements of ``fine``
-    along both surfaces within 2.5 b of the centre; returns mesh, model, contact."""
+    along both surfaces within 2.5 b of the centre (with the contact nodes made heavier
+    for it where ``scale_masses``: :func:`~taichi_bearing.solver.relaxation.relax`);
+    returns mesh, model, contact and the relaxation's result."""
     kw = dict(fine=fine, fine_half_width=2.5 * B_TARGET, growth=1.3)
     block = graded_block_mesh(4e-3, 4e-3, **kw)
     cap = cylinder_cap_mesh(R, 4e-3, 4e-3, **kw)
@@ -62,11 +65,11 @@ def pressed_cylinder(
     contact = PenaltyContact(model, [pair], params, law=law)
     model.add_contributor(contact)
     model.set_dt(dt_factor * model.dt_stable)
-    res = relax(model, ke_ratio_tol=tol, max_steps=max_steps)
+    res = relax(model, ke_ratio_tol=tol, max_steps=max_steps, scale_masses=scale_masses)
     if not res.converged:
         raise RuntimeError(f"the cylinder did not come to rest in {max_steps} steps: {res}")
     model.advance(1)
-    return mesh, model, contact
+    return mesh, model, contact, res
 
 
 def pressure_profile(mesh, contact):
@@ -83,13 +86,18 @@ def pressure_profile(mesh, contact):
     return x, fy, fy / trib, trib
 
 
-def cylinder_patch(fine: float, pressure: float) -> dict:
+def cylinder_patch(fine: float, pressure: float, scale_masses: bool = False) -> dict:
     """The cylinder relaxed onto its block through the pressure law ``pressure`` (Pa/m)
-    at the global stable step (which counts the law's springs); the patch of
+    at the global stable step (which counts the law's springs; with the contact nodes
+    heavier for the relaxation where ``scale_masses``); the patch of
     :func:`~taichi_bearing.analytic.contact_pressure.nodal_patch` read from the block's
     top nodes with the spread of elements ``fine`` taken off. Taichi must be started."""
-    mesh, _, contact = pressed_cylinder(
-        fine, ContactParameters(), law=PressurePenalty(pressure), time_step="global"
+    mesh, _, contact, _ = pressed_cylinder(
+        fine,
+        ContactParameters(),
+        law=PressurePenalty(pressure),
+        time_step="global",
+        scale_masses=scale_masses,
     )
     x, fy, _, trib = pressure_profile(mesh, contact)
     return nodal_patch(x, fy, trib, 1.0, float(contact_spread(fine)))

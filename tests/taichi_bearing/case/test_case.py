@@ -112,6 +112,25 @@ def test_the_pressure_law_is_refused_with_the_element_step(tmp_path, raw):
     assert load_case(write(tmp_path, raw)).contact.penalty_method == "pressure"
 
 
+def test_preload_mass_scaling_is_refused_where_it_would_lift_nothing_or_move_the_state(
+    tmp_path, raw
+):
+    """The heavier contact nodes lift the step only under the global estimate, and the
+    soft penalty's stiffness follows the masses (another static state): both refused,
+    naming preload.mass_scaling; the pressure law with the global estimate is taken."""
+    assert load_case(write(tmp_path, raw)).preload.mass_scaling is False  # default
+    raw["preload"]["mass_scaling"] = True
+    raw["run"]["time_step"] = "element"
+    with pytest.raises(CaseError, match="preload.mass_scaling.*global"):
+        load_case(write(tmp_path, raw))
+    raw["run"]["time_step"] = "global"
+    raw["contact"]["penalty_method"] = "soft"
+    with pytest.raises(CaseError, match="preload.mass_scaling.*soft"):
+        load_case(write(tmp_path, raw))
+    raw["contact"]["penalty_method"] = "pressure"
+    assert load_case(write(tmp_path, raw)).preload.mass_scaling is True
+
+
 def test_outer_support_defaults_to_the_adapter(tmp_path, raw):
     raw = dict(raw, bearing={k: v for k, v in raw["bearing"].items() if k != "outer_support"})
     assert load_case(write(tmp_path, raw)).bearing.outer_support == "adapter"
@@ -393,7 +412,7 @@ def test_every_key_has_a_comment_and_its_unit():
     reference = render_reference()
     keys = [(f"{name}.{k.name}", k) for name, sec in SECTIONS.items() for k in sec.keys]
     keys += [(f"sensors.<name>.{k.name}", k) for k in SENSOR_KEYS]
-    assert len(keys) == 62
+    assert len(keys) == 63
     for path, k in keys:
         assert len(k.doc.split()) >= 2, path
         assert f"| `{k.name}` |" in reference, path

@@ -26,7 +26,7 @@ def test_cylinder_on_block_matches_hertz():
     # The penalty adds stiffness of the order of the elements': a shorter step keeps it
     # stable (the element step does not count the contact's springs).
     params = ContactParameters(penalty_scale=1.0)
-    mesh, model, contact = pressed_cylinder(B_TARGET / 10, params, dt_factor=0.5)
+    mesh, model, contact, _ = pressed_cylinder(B_TARGET / 10, params, dt_factor=0.5)
     x, fy, p, _ = pressure_profile(mesh, contact)
     # The elliptic Hertz pressure has second moment b^2 / 4 about its centre.
     b = 2.0 * np.sqrt((x**2 * fy).sum() / fy.sum())
