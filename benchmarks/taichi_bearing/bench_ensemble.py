@@ -14,7 +14,8 @@ Nothing else may run on the machine meanwhile.
 
 With ``--sizes``, ensembles of each size only (no singles), and the runs per minute each
 gives: on a GPU, ``--arch cuda --case cases/single_passage.yaml --sizes 1,4,16,64`` gives
-issue 45's passages per minute (one passage a run of that case).
+issue 45's passages per minute (one passage a run of that case). ``--set`` overrides case
+keys: the contact study's finest level (gpu_check.sh's ``contact`` stage) runs the same way.
 """
 
 from __future__ import annotations
@@ -31,11 +32,11 @@ from pathlib import Path
 sys.path.insert(0, str(Path(__file__).resolve().parents[2]))
 
 
-def member_cases(path: str, members: int, duration_ms: float) -> list:
+def member_cases(path: str, members: int, duration_ms: float, sets=()) -> list:
     from taichi_bearing.case import load_case
     from taichi_bearing.studies.passage_study import spread_angles
 
-    base = load_case(path)
+    base = load_case(path, list(sets))
     centre = math.degrees(base.run.first_roller_angle)
     out = []
     for angle in spread_angles(centre, 0.5, members):
@@ -85,18 +86,20 @@ def main() -> int:
     p.add_argument("--arch", default="cpu")
     p.add_argument("--sizes", default=None, metavar="N1,N2,...",
                    help="ensembles of these sizes only, and their runs per minute")  # fmt: skip
+    p.add_argument("--set", dest="sets", action="append", default=[], metavar="KEY=VALUE",
+                   help="case override (repeatable): a refined mesh, the pressure law")  # fmt: skip
     args = p.parse_args()
     from taichi_bearing.solver.backend import init_taichi
 
     init_taichi(args.arch, args.threads)
     if args.sizes:
         return ensemble_sizes(args)
-    cases = member_cases(args.case, args.members, args.duration_ms)
+    cases = member_cases(args.case, args.members, args.duration_ms, args.sets)
     kinds = {"singles": run_singles, "ensemble": run_members}
     totals: dict[str, list[float]] = {k: [] for k in kinds}
     with tempfile.TemporaryDirectory(prefix="bench_ensemble_") as tmp:
         root = Path(tmp)
-        warm = member_cases(args.case, args.members, 0.05)
+        warm = member_cases(args.case, args.members, 0.05, args.sets)
         for name, run in kinds.items():
             run(warm, root / f"warm_{name}", args.threads, args.arch)
         print(f"{args.members} members of {args.case}, {args.duration_ms:g} ms, "
@@ -126,9 +129,9 @@ def ensemble_sizes(args) -> int:
         print(f"{'members':>7s} {'model s':>8s} {'preload s':>10s} {'transient s':>12s} "
               f"{'wall s':>8s} {'runs/min':>9s}")  # fmt: skip
         for n in sizes:
-            run_members(member_cases(args.case, n, 0.05), root / f"warm{n}", args.threads,
-                        args.arch)  # fmt: skip
-            cases = member_cases(args.case, n, args.duration_ms)
+            run_members(member_cases(args.case, n, 0.05, args.sets), root / f"warm{n}",
+                        args.threads, args.arch)  # fmt: skip
+            cases = member_cases(args.case, n, args.duration_ms, args.sets)
             wall, (model, pre, tr) = run_members(cases, root / f"n{n}", args.threads, args.arch)
             print(f"{n:7d} {model:8.1f} {pre:10.1f} {tr:12.1f} {wall:8.1f} "
                   f"{60.0 * n / wall:9.2f}")  # fmt: skip

@@ -18,6 +18,12 @@
 #              preload each, their runs per minute (issue 45's table; a passage takes the
 #              case's whole duration, so passages per minute = runs per minute x ENS_MS /
 #              the case's duration_ms).
+#   contact    bench_ensemble.py on cuda on issue 43's finest static level
+#              (docs/results/contact_convergence: roller 0 and the spall zone at 0.0625 mm,
+#              the other surfaces at 0.25 mm, the pressure law at alpha 30, the preload
+#              mass-scaled): ensembles of $CONTACT_SIZES (default "1,4,16") members,
+#              $CONTACT_MS ms (default 0.1) after the preload; what a passage on that mesh
+#              costs on the GPU (a 6 ms passage = runs/min x CONTACT_MS / 6).
 # Every stage shares one kernel cache (/tmp/bg/cache_cuda). Each stage's limit must leave
 # room for compiling: Taichi writes its offline cache when a process ends, so a process
 # killed while compiling leaves nothing for the next (seen: 8 steps a launch took 113 s to
@@ -113,5 +119,18 @@ if want ensemble; then
     timeout "${ENSEMBLE_S:-400}" $PY benchmarks/taichi_bearing/bench_ensemble.py --arch cuda \
         --case cases/single_passage.yaml --sizes "${ENS_SIZES:-1,4,16,64}" \
         --duration-ms "${ENS_MS:-1}" 2>&1 | grep -v '^\[Taichi\]' | tee -a "$LOG"
+fi
+if want contact; then
+    echo "== contact: bench_ensemble on cuda, issue 43's finest level, sizes ${CONTACT_SIZES:-1,4,16}" \
+        | tee -a "$LOG"
+    timeout "${CONTACT_S:-400}" $PY benchmarks/taichi_bearing/bench_ensemble.py --arch cuda \
+        --case cases/single_passage.yaml --sizes "${CONTACT_SIZES:-1,4,16}" \
+        --duration-ms "${CONTACT_MS:-0.1}" \
+        --set mesh.spall_size_mm=0.0625 --set mesh.roller_surface_size_mm=0.0625 \
+        --set mesh.surface_size_mm=0.25 --set mesh.fine_rollers=1 --set mesh.spall_zone_mm=6 \
+        --set contact.penalty_method=pressure --set contact.penalty_scale=30 \
+        --set run.time_step=global --set preload.mass_scaling=true \
+        --set preload.max_steps=2000000 --set run.frame_interval_ms=0.05 \
+        --set run.checkpoint_interval_ms=0.05 2>&1 | grep -v '^\[Taichi\]' | tee -a "$LOG"
 fi
 exit 0

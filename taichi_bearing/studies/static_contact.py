@@ -35,7 +35,6 @@ from taichi_bearing.studies.convergence import STATIC_LIMIT, assess
 
 __all__ = ["QUANTITIES", "failed_row", "level_row", "main", "markdown_tables", "run_level"]
 
-# (column, label): what is judged per level
 QUANTITIES = (
     ("q_max_N", "Q_max (N)"),
     ("half_width_mm", "patch half-width (mm)"),
@@ -43,6 +42,7 @@ QUANTITIES = (
     ("half_width_error", "half-width / Hertz - 1"),
     ("peak_pressure_error", "peak pressure / Hertz - 1"),
 )
+"""(column, label) of what each level reports; the first three are judged over the levels."""
 
 
 def pressure_sets(alpha: float) -> list[str]:
