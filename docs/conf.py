@@ -58,7 +58,7 @@ exclude_patterns = [
     # tables the impact READMEs link as files or copy (no title of their own)
     "results/impact/table.md",
     "results/cylinder_impact/*/table.md",
-    "results/contact_convergence/static/table.md",
+    "results/contact_convergence/static*/table.md",
     # the gallery's downloads and notebooks, and the API pages' templates, are not pages
     "auto_examples/*.ipynb",
     "auto_examples/*.py",
