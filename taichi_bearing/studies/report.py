@@ -21,10 +21,11 @@ __all__ = [
 ]
 
 
-def write_csv(path: Path, df: pd.DataFrame) -> Path:
-    """``df`` as CSV, written to a temporary name and renamed."""
+def write_csv(path: Path, df: pd.DataFrame, float_format: str | None = None) -> Path:
+    """``df`` as CSV (floats as ``float_format`` where given), written to a temporary name
+    and renamed."""
     with atomic_path(path) as tmp:
-        df.to_csv(tmp, index=False)
+        df.to_csv(tmp, index=False, float_format=float_format)
     return Path(path)
 
 

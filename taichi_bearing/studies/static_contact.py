@@ -152,10 +152,10 @@ def _write(out: Path, rows: list[dict], key: str) -> None:
     import pandas as pd
 
     from bearing_io.files import atomic_path
+    from taichi_bearing.studies.report import write_csv
 
     out.mkdir(parents=True, exist_ok=True)
-    with atomic_path(out / "levels.csv") as tmp:
-        pd.DataFrame(rows).to_csv(tmp, index=False, float_format="%.8g")
+    write_csv(out / "levels.csv", pd.DataFrame(rows), float_format="%.8g")
     with atomic_path(out / "table.md") as tmp:
         Path(tmp).write_text(markdown_tables(rows, key) + "\n")
 

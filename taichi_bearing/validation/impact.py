@@ -150,10 +150,8 @@ def level_row(ref: Reference, fe: FEImpact, damping_ratio: float = 0.0) -> dict[
     :func:`with_penalty`)."""
     imp = ref.impact
     at_peak = int(np.argmax(fe.force))
-    penalised = None
-    if fe.penalty_pressure > 0:
-        bodies = ref.bodies
-        penalised = with_penalty(ref, fe.penalty_pressure * bodies.peak_half_width / bodies.e_star)
+    # a pressure-law level's penalty_scale is its alpha (run_level)
+    penalised = with_penalty(ref, fe.penalty_scale) if fe.penalty_pressure > 0 else None
     return {
         "size_mm": fe.size * 1e3,
         "size_over_b": fe.size / ref.bodies.peak_half_width,
@@ -344,13 +342,12 @@ def main(argv: Sequence[str] | None = None) -> int:
     if args.out is not None:
         import pandas as pd
 
-        from taichi_bearing.studies.report import save_figure
+        from taichi_bearing.studies.report import save_figure, write_csv
 
         args.out.mkdir(parents=True, exist_ok=True)
         with atomic_path(args.out / "table.md") as tmp:
             Path(tmp).write_text(summary + "\n\n" + table + "\n")
-        with atomic_path(args.out / "levels.csv") as tmp:
-            pd.DataFrame(rows).to_csv(tmp, index=False, float_format="%.6g")
+        write_csv(args.out / "levels.csv", pd.DataFrame(rows), float_format="%.6g")
         save_figure(plot_histories(ref, runs), args.out / "force_time.png")
     return 0
 
